@@ -1,0 +1,167 @@
+//! `rigid3-lab`: command-line front end of the lab.
+
+use clap::{Parser, Subcommand};
+use rigid3::{Body, Real, State};
+use rigid3_lab::methods::{describe, make, METHODS};
+use rigid3_lab::propagate::{propagate, Report};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "rigid3-lab", about = "Experiments with the rigid3 integrators")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Propagate one initial state with one method and print the final state, the
+    /// invariants and their drift.
+    Propagate {
+        /// Method name (see `rigid3-lab methods`).
+        #[arg(long)]
+        method: String,
+        /// Principal moments of inertia I1,I2,I3.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        inertia: Vec<f64>,
+        /// Initial body momentum x,y,z.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        m0: Vec<f64>,
+        /// Initial attitude w,x,y,z (body to space); without it the run is momentum-only.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        q0: Option<Vec<f64>>,
+        /// Step size.
+        #[arg(long, allow_hyphen_values = true)]
+        h: f64,
+        /// Final time (rounded to a whole number of steps).
+        #[arg(long)]
+        t: f64,
+        /// Compute in f32 instead of f64.
+        #[arg(long)]
+        f32: bool,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// List the methods.
+    Methods,
+    /// The talk's case with every method: errors against the reference and invariant drift.
+    Demo,
+}
+
+fn main() -> ExitCode {
+    match Cli::parse().command {
+        Command::Propagate {
+            method,
+            inertia,
+            m0,
+            q0,
+            h,
+            t,
+            f32,
+            json,
+        } => {
+            let (Ok(inertia), Ok(m0)) = (<[f64; 3]>::try_from(inertia), <[f64; 3]>::try_from(m0))
+            else {
+                eprintln!("error: --inertia and --m0 take three comma-separated numbers");
+                return ExitCode::FAILURE;
+            };
+            let q0 = match q0.map(<[f64; 4]>::try_from) {
+                None => None,
+                Some(Ok(q)) => Some(q),
+                Some(Err(_)) => {
+                    eprintln!("error: --q0 takes four comma-separated numbers w,x,y,z");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let steps = (t / h).abs().round() as usize;
+            let report = if f32 {
+                run::<f32>(&method, inertia, m0, q0, h, steps)
+            } else {
+                run::<f64>(&method, inertia, m0, q0, h, steps)
+            };
+            match report {
+                Ok(r) => {
+                    if json {
+                        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+                    } else {
+                        print_report(&r);
+                    }
+                    if r.error.is_some() {
+                        ExitCode::FAILURE
+                    } else {
+                        ExitCode::SUCCESS
+                    }
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        Command::Methods => {
+            for m in METHODS {
+                println!("{m:<12} {}", describe(m));
+            }
+            ExitCode::SUCCESS
+        }
+        Command::Demo => {
+            rigid3_lab::demo::print_demo();
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+fn run<T: Real + 'static>(
+    method: &str,
+    inertia: [f64; 3],
+    m0: [f64; 3],
+    q0: Option<[f64; 4]>,
+    h: f64,
+    steps: usize,
+) -> Result<Report, String> {
+    let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
+    let mut integrator = make(method, body, T::from_f64(h))
+        .ok_or_else(|| format!("unknown method '{method}' (see `rigid3-lab methods`)"))?;
+    let s0 = State::new(
+        m0.map(T::from_f64),
+        q0.unwrap_or([1.0, 0.0, 0.0, 0.0]).map(T::from_f64),
+    );
+    Ok(propagate(
+        method,
+        integrator.as_mut(),
+        &body,
+        s0,
+        steps,
+        q0.is_some(),
+    ))
+}
+
+fn print_report(r: &Report) {
+    println!("method   {}  ({})", r.method, describe(&r.method));
+    println!("h        {}   steps {}   t {}", r.h, r.steps, r.t);
+    println!("m        {:.17e} {:.17e} {:.17e}", r.m[0], r.m[1], r.m[2]);
+    if let Some(q) = r.q {
+        println!(
+            "q        {:.17e} {:.17e} {:.17e} {:.17e}",
+            q[0], q[1], q[2], q[3]
+        );
+    }
+    println!(
+        "energy   {:.17e}   max rel drift {:.3e}",
+        r.energy, r.energy_drift
+    );
+    println!(
+        "|m|^2    {:.17e}   max rel drift {:.3e}",
+        r.casimir, r.casimir_drift
+    );
+    if let (Some(p), Some(d)) = (r.spatial_momentum, r.spatial_momentum_drift) {
+        println!(
+            "R(q) m   {:.17e} {:.17e} {:.17e}   max rel drift {:.3e}",
+            p[0], p[1], p[2], d
+        );
+    }
+    if let Some(e) = &r.error {
+        println!("stopped  {e}");
+    }
+}

@@ -1,0 +1,54 @@
+//! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
+
+use rigid3::{Body, Integrator, Real, SeedMv, State, StepError};
+
+use crate::general::GeneralDmv;
+
+/// The method names the CLI accepts, in the order tables list them.
+pub const METHODS: &[&str] = &["seed-mv", "general"];
+
+/// One-line description of a method, for tables and `--help`.
+pub fn describe(name: &str) -> &'static str {
+    match name {
+        "seed-mv" => "talk's explicit DMV (cubic + eigenvectors), order 2",
+        "general" => "DMV by the general-N Cardoso–Leite solver (lab oracle, f64 only)",
+        _ => "unknown",
+    }
+}
+
+/// A boxed integrator for `name`, or `None` for an unknown name (or `general` in f32).
+pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dyn Integrator<T>>> {
+    match name {
+        "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
+        "general" => {
+            // the oracle is f64-only; wrap through f64
+            Some(Box::new(Widened(GeneralDmv::new(
+                body.mass_matrix().map(Real::to_f64),
+                h.to_f64(),
+            ))))
+        }
+        _ => None,
+    }
+}
+
+/// Runs an f64 integrator on any `Real` state by widening and narrowing.
+struct Widened(GeneralDmv);
+
+impl<T: Real> Integrator<T> for Widened {
+    fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
+        let mut w = m.map(Real::to_f64);
+        self.0.step(&mut w)?;
+        *m = w.map(T::from_f64);
+        Ok(())
+    }
+    fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        let mut w = State::new(s.m.map(Real::to_f64), s.q.map(Real::to_f64));
+        self.0.step_state(&mut w)?;
+        s.m = w.m.map(T::from_f64);
+        s.q = w.q.map(T::from_f64);
+        Ok(())
+    }
+    fn step_size(&self) -> T {
+        T::from_f64(self.0.step_size())
+    }
+}

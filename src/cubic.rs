@@ -1,0 +1,272 @@
+//! Allocation-free roots of real cubics, and the largest real root of the DMV quartic.
+//!
+//! # Method and error budget
+//!
+//! [`solve_cubic`] first rescales `x = s y` with `s = max(|a|, |b|^(1/2), |c|^(1/3))`, so
+//! the scaled coefficients are at most 1 and nothing overflows for any finite input
+//! (scale invariance). It takes the real root of largest magnitude from the trigonometric
+//! (three real roots) or Cardano (one real root) formula, polishes it by Newton's method on
+//! the scaled polynomial, and deflates: the other two roots have sum `-(a + r)` and product
+//! `-c / r`, and are found from that quadratic with the cancellation-free formula. Deflating
+//! by the largest root is forward stable (Wilkinson), so every simple root `r` satisfies
+//!
+//! `|r_computed - r| <= 8 eps (|r|^3 + |a| r^2 + |b| |r| + |c|) / |p'(r)|`,
+//!
+//! a few ulps times the root's condition number; a double root is found to about
+//! `sqrt(eps)` relative (its condition number is infinite) and may come out as a complex
+//! pair with an imaginary part of that size. The tests check this bound against roots built
+//! in advance and against the `f64` result for the `f32` routine.
+
+use crate::real::{c, sq, Real};
+
+/// The roots of a real cubic.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CubicRoots<T> {
+    /// Three real roots in ascending order (repeated roots are repeated).
+    Real([T; 3]),
+    /// One real root and the complex pair `re +- i im` with `im > 0`.
+    Complex {
+        /// The real root.
+        real: T,
+        /// Real part of the pair.
+        re: T,
+        /// Imaginary part of the pair, positive.
+        im: T,
+    },
+}
+
+/// Roots of the monic cubic `x^3 + a x^2 + b x + c`.
+///
+/// Returns `None` when a coefficient is not finite or a root overflows. Accuracy: see the module docs (a few
+/// ulps times each simple root's condition number). Uses one `sqrt`, one `cbrt` and either
+/// one `acos` and three `cos` (three real roots) or one more `sqrt` and `cbrt` (one real root).
+pub fn solve_cubic<T: Real>(a: T, b: T, cc: T) -> Option<CubicRoots<T>> {
+    if !(a.is_finite() && b.is_finite() && cc.is_finite()) {
+        return None;
+    }
+    let s = a.abs().max(b.abs().sqrt()).max(cc.abs().cbrt());
+    if s == T::ZERO {
+        return Some(CubicRoots::Real([T::ZERO; 3]));
+    }
+    let inv = T::ONE / s;
+    let a1 = a * inv;
+    // one factor at a time: inv^2 alone can overflow while b * inv^2 cannot
+    let b1 = b * inv * inv;
+    let c1 = cc * inv * inv * inv;
+
+    let r = polish(largest_root_guess(a1, b1, c1), a1, b1, c1);
+
+    // The other two roots: y^2 + p y + q = 0 with p = a1 + r, q = -c1 / r (r != 0 since it
+    // is the root of largest magnitude and the scaled polynomial is not y^3).
+    let p = a1 + r;
+    let q = if r != T::ZERO { -c1 / r } else { b1 };
+    let half_p = p * c(0.5);
+    let disc = sq(half_p) - q;
+    let roots = if disc >= T::ZERO {
+        let big = -half_p - disc.sqrt().copysign(half_p);
+        let small = if big != T::ZERO { q / big } else { T::ZERO };
+        let (y1, y2) = polish_pair(big, small, r, a1, b1, c1);
+        CubicRoots::Real(sort3(r * s, y1 * s, y2 * s))
+    } else {
+        CubicRoots::Complex {
+            real: r * s,
+            re: -half_p * s,
+            im: (-disc).sqrt() * s,
+        }
+    };
+    let finite = match roots {
+        CubicRoots::Real([x, y, z]) => x.is_finite() && y.is_finite() && z.is_finite(),
+        CubicRoots::Complex { real, re, im } => {
+            real.is_finite() && re.is_finite() && im.is_finite()
+        }
+    };
+    if finite {
+        Some(roots)
+    } else {
+        None
+    }
+}
+
+/// The real root of largest magnitude of the scaled cubic (coefficients at most 1), from
+/// the classical closed forms; accurate to a few ulps unless two roots nearly coincide.
+fn largest_root_guess<T: Real>(a: T, b: T, cc: T) -> T {
+    let third = c::<T>(1.0 / 3.0);
+    let shift = a * third;
+    let qq = (sq(a) - c::<T>(3.0) * b) * c(1.0 / 9.0);
+    let rr = (c::<T>(2.0) * sq(a) * a - c::<T>(9.0) * a * b + c::<T>(27.0) * cc) * c(1.0 / 54.0);
+    let qq3 = sq(qq) * qq;
+    if sq(rr) < qq3 {
+        // three real roots: -2 sqrt(Q) cos((theta + 2 pi k) / 3) - a / 3
+        let sqrt_q = qq.sqrt();
+        let t = (rr / (qq * sqrt_q)).max(-T::ONE).min(T::ONE);
+        let theta = t.acos() * third;
+        let two_pi_3 = c::<T>(2.0 * core::f64::consts::PI / 3.0);
+        let m = c::<T>(-2.0) * sqrt_q;
+        let x1 = m * theta.cos() - shift;
+        let x2 = m * (theta + two_pi_3).cos() - shift;
+        let x3 = m * (theta - two_pi_3).cos() - shift;
+        let mut best = x1;
+        if x2.abs() > best.abs() {
+            best = x2;
+        }
+        if x3.abs() > best.abs() {
+            best = x3;
+        }
+        best
+    } else {
+        let root = (sq(rr) - qq3).max(T::ZERO).sqrt();
+        let big_a = -(rr.abs() + root).cbrt().copysign(rr);
+        let big_b = if big_a != T::ZERO {
+            qq / big_a
+        } else {
+            T::ZERO
+        };
+        big_a + big_b - shift
+    }
+}
+
+#[inline]
+fn eval<T: Real>(x: T, a: T, b: T, cc: T) -> (T, T) {
+    let p = ((x + a) * x + b) * x + cc;
+    let dp = (c::<T>(3.0) * x + c::<T>(2.0) * a) * x + b;
+    (p, dp)
+}
+
+/// At most three Newton steps, each kept only if it lowers the residual.
+fn polish<T: Real>(mut x: T, a: T, b: T, cc: T) -> T {
+    let (mut p, mut dp) = eval(x, a, b, cc);
+    let mut k = 0;
+    while k < 3 && p != T::ZERO && dp != T::ZERO {
+        let xn = x - p / dp;
+        let (pn, dpn) = eval(xn, a, b, cc);
+        if !(pn.abs() < p.abs()) {
+            break;
+        }
+        x = xn;
+        p = pn;
+        dp = dpn;
+        k += 1;
+    }
+    x
+}
+
+/// Polishes the two deflated real roots by Newton on the full cubic, keeping a step only if
+/// it lowers the residual and moves the root by less than half its distance to the nearest
+/// other root, so that near a double root the two never merge.
+fn polish_pair<T: Real>(y1: T, y2: T, r: T, a: T, b: T, cc: T) -> (T, T) {
+    let gap1 = (y1 - y2).abs().min((y1 - r).abs()) * c(0.5);
+    let gap2 = (y2 - y1).abs().min((y2 - r).abs()) * c(0.5);
+    (
+        polish_guarded(y1, gap1, a, b, cc),
+        polish_guarded(y2, gap2, a, b, cc),
+    )
+}
+
+fn polish_guarded<T: Real>(x: T, gap: T, a: T, b: T, cc: T) -> T {
+    let (p, dp) = eval(x, a, b, cc);
+    if p == T::ZERO || dp == T::ZERO {
+        return x;
+    }
+    let step = p / dp;
+    if !(step.abs() < gap) {
+        return x;
+    }
+    let xn = x - step;
+    let (pn, _) = eval(xn, a, b, cc);
+    if pn.abs() < p.abs() {
+        xn
+    } else {
+        x
+    }
+}
+
+fn sort3<T: Real>(x: T, y: T, z: T) -> [T; 3] {
+    let (lo, hi) = if x <= y { (x, y) } else { (y, x) };
+    if z <= lo {
+        [z, lo, hi]
+    } else if z <= hi {
+        [lo, z, hi]
+    } else {
+        [lo, hi, z]
+    }
+}
+
+/// Principal square root of `re + i im`: returns `(u, v)` with `u >= 0`, `(u + i v)^2 = re + i im`.
+/// Cancellation-free in both half planes.
+pub(crate) fn complex_sqrt<T: Real>(re: T, im: T) -> (T, T) {
+    let r = re.abs().max(im.abs());
+    if r == T::ZERO {
+        return (T::ZERO, T::ZERO);
+    }
+    // |z| without overflow
+    let modulus = r * (sq(re / r) + sq(im / r)).sqrt();
+    if re >= T::ZERO {
+        let u = ((modulus + re) * c(0.5)).sqrt();
+        (u, im / (c::<T>(2.0) * u))
+    } else {
+        let v = ((modulus - re) * c(0.5)).sqrt().copysign(im);
+        (im / (c::<T>(2.0) * v), v)
+    }
+}
+
+/// Largest real root `s1` of the DMV quartic `(s^2 - A)^2 - 8 s3 s - 4 B = 0` (MATH.md §4).
+///
+/// The quartic's roots are `+-lambda_1 +- lambda_2 +- lambda_3` (an even number of minus
+/// signs), where `mu_i = lambda_i^2` are the roots of `mu^3 - A mu^2 + B mu - s3^2`. So the
+/// cubic is solved, `s1 = sum sqrt(mu_i)` (principal branch; a complex pair contributes twice
+/// its real part) and `s1` is polished by up to three Newton steps on the quartic. Returns
+/// `None` when the cubic has a negative real root (then no real DMV step exists: MATH.md §3)
+/// or the input is not finite. Accuracy: a few ulps of `s1` times the quartic's condition
+/// number at `s1`, which stays moderate because `s1` is a simple root even where two `mu_i`
+/// meet. Inputs should be of order one (the DMV steps scale them so).
+pub fn quartic_largest_root<T: Real>(big_a: T, big_b: T, s3: T) -> Option<T> {
+    let roots = solve_cubic(-big_a, big_b, -sq(s3))?;
+    let s = match roots {
+        CubicRoots::Real([m0, m1, m2]) => {
+            if m0 < T::ZERO {
+                return None;
+            }
+            m0.sqrt() + m1.sqrt() + m2.sqrt()
+        }
+        CubicRoots::Complex { real, re, im } => {
+            if real < T::ZERO {
+                return None;
+            }
+            let (u, _) = complex_sqrt(re, im);
+            real.sqrt() + c::<T>(2.0) * u
+        }
+    };
+    let s = polish_quartic(s, big_a, big_b, s3);
+    if s.is_finite() {
+        Some(s)
+    } else {
+        None
+    }
+}
+
+/// Value and derivative of the DMV quartic at `s`.
+#[inline]
+pub(crate) fn quartic_eval<T: Real>(s: T, big_a: T, big_b: T, s3: T) -> (T, T) {
+    let u = sq(s) - big_a;
+    let q = sq(u) - c::<T>(8.0) * s3 * s - c::<T>(4.0) * big_b;
+    let dq = c::<T>(4.0) * s * u - c::<T>(8.0) * s3;
+    (q, dq)
+}
+
+fn polish_quartic<T: Real>(mut s: T, big_a: T, big_b: T, s3: T) -> T {
+    let (mut q, mut dq) = quartic_eval(s, big_a, big_b, s3);
+    let mut k = 0;
+    while k < 3 && q != T::ZERO && dq != T::ZERO {
+        let sn = s - q / dq;
+        let (qn, dqn) = quartic_eval(sn, big_a, big_b, s3);
+        if !(qn.abs() < q.abs()) {
+            break;
+        }
+        s = sn;
+        q = qn;
+        dq = dqn;
+        k += 1;
+    }
+    s
+}

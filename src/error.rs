@@ -1,0 +1,76 @@
+//! Error types: small, `Copy`, and `#[non_exhaustive]` so variants can be added.
+
+use core::fmt;
+
+/// Why a set of moments of inertia (or a mass matrix, or an inertia tensor) was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum BodyError {
+    /// An entry is NaN or infinite.
+    NonFinite,
+    /// A principal moment of inertia is zero or negative.
+    NonPositiveMoment,
+    /// A moment is larger than the sum of the other two (`I_i > I_j + I_k`): no real mass
+    /// distribution has it, and the mass matrix `J` would have a negative entry.
+    TriangleInequality,
+    /// A mass-matrix entry `J_i` is negative.
+    NegativeMassMatrix,
+    /// The inertia tensor is not symmetric (to a relative tolerance of `64 eps`).
+    NotSymmetric,
+}
+
+impl fmt::Display for BodyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            BodyError::NonFinite => "inertia has a NaN or infinite entry",
+            BodyError::NonPositiveMoment => "a principal moment of inertia is not positive",
+            BodyError::TriangleInequality => {
+                "moments of inertia break the triangle inequality I_i <= I_j + I_k"
+            }
+            BodyError::NegativeMassMatrix => "a mass-matrix entry J_i is negative",
+            BodyError::NotSymmetric => "the inertia tensor is not symmetric",
+        })
+    }
+}
+
+/// Why a step was not taken. The state is always left as it was.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum StepError {
+    /// The state or the step size has a NaN or infinite entry, or the quaternion is zero.
+    NonFinite,
+    /// The step size is past the method's limit for this state (for DMV: the cubic of
+    /// MATH.md §2 has a negative real root, so no real orthogonal solution exists).
+    StepTooLarge,
+    /// An iterative solve (implicit midpoint) did not converge.
+    NoConvergence,
+    /// The method's linear algebra broke down on a degenerate input (a singular eigenvector
+    /// system, a repeated root the method cannot separate, a singular mass matrix) or its
+    /// result failed a validity check (not orthogonal, not finite).
+    Degenerate,
+    /// The result would overflow the floating-point range.
+    Overflow,
+}
+
+impl fmt::Display for StepError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            StepError::NonFinite => "state or step size is not finite",
+            StepError::StepTooLarge => "step size is past the method's limit for this state",
+            StepError::NoConvergence => "the iteration did not converge",
+            StepError::Degenerate => "the method broke down on a degenerate input",
+            StepError::Overflow => "the result would overflow",
+        })
+    }
+}
+
+#[cfg(feature = "std")]
+extern crate std;
+
+#[cfg(feature = "std")]
+impl std::error::Error for BodyError {}
+
+#[cfg(feature = "std")]
+impl std::error::Error for StepError {}

@@ -1,0 +1,58 @@
+//! # rigid3: explicit discrete Moser–Veselov integrators for the free rigid body
+//!
+//! `#![no_std]`, allocation-free, `f32` and `f64`. Integrates Euler's equations
+//! `m' = m x Omega`, `Omega = I^-1 m`, for the body angular momentum `m`, and the attitude
+//! quaternion `q' = 1/2 q (x) (0, Omega)` (body to space), with the discrete Moser–Veselov
+//! (DMV) rigid body solved explicitly for `N = 3` (Zanna & McLachlan, "An explicit,
+//! completely integrable, second-order method for the 3x3 rigid body").
+//!
+//! ## Conventions
+//!
+//! - Principal moments `I = (I1, I2, I3)`; mass matrix `J_i = (I_j + I_k - I_i) / 2`.
+//! - Energy `E = 1/2 sum m_i^2 / I_i` and Casimir `|m|^2` are conserved by the flow, and so is
+//!   the spatial momentum `R(q) m`.
+//! - `q = (w, x, y, z)` maps body to space: `x_space = R(q) x_body`.
+//!
+//! ## Methods
+//!
+//! | type | method | order | conserves |
+//! |---|---|---|---|
+//! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors) | 2 | `|m|^2`, `E`, `R(q) m` |
+//!
+//! Every method implements [`Integrator`]: `step` advances momentum only, `step_state`
+//! momentum and attitude. A step that cannot be taken returns a [`StepError`] and leaves
+//! the state as it was; no method panics or returns NaN.
+//!
+//! ## Example
+//!
+//! ```
+//! use rigid3::{Body, Integrator, SeedMv, State};
+//!
+//! let body = Body::<f64>::from_mass_matrix([0.9218, 0.7382, 0.1763]).unwrap();
+//! let mut dmv = SeedMv::new(body, 0.1);
+//! let mut s = State::new([0.4165, 0.9072, 0.0588], [1.0, 0.0, 0.0, 0.0]);
+//! let e0 = body.energy(&s.m);
+//! for _ in 0..100 {
+//!     dmv.step_state(&mut s).unwrap();
+//! }
+//! assert!((body.energy(&s.m) - e0).abs() < 1e-14);
+//! ```
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+// `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod body;
+pub mod cubic;
+mod error;
+mod integrator;
+mod linalg;
+mod mv_seed;
+mod real;
+
+pub use body::Body;
+pub use error::{BodyError, StepError};
+pub use integrator::{Integrator, State};
+pub use mv_seed::SeedMv;
+pub use real::Real;

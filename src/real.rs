@@ -1,0 +1,175 @@
+//! The scalar type every method is written against.
+//!
+//! All arithmetic in the crate goes through [`Real`], so that the same code runs in `f32` and
+//! `f64`, and so that a wrapper type (the lab's flop counter) can observe every operation.
+//! This is the only file that calls `libm`.
+
+use core::fmt::Debug;
+use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// A real floating-point scalar: `f32`, `f64`, or a wrapper around one of them.
+///
+/// The elementary functions are those of `libm` (correctly rounded or within 1 ulp for
+/// `sqrt`, `abs`; within 1–2 ulp for the transcendental ones, see libm's notes). Methods that
+/// compare or classify (`is_finite`, `<`) are not arithmetic and a counting wrapper need not
+/// count them.
+pub trait Real:
+    Copy
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+{
+    /// Machine epsilon: the gap between 1 and the next representable number.
+    const EPSILON: Self;
+    /// Smallest positive normal number.
+    const MIN_POSITIVE: Self;
+    /// Largest finite number.
+    const MAX: Self;
+    /// 0.
+    const ZERO: Self;
+    /// 1.
+    const ONE: Self;
+
+    /// Converts an `f64` constant, rounding to nearest. Constants are not counted as flops.
+    fn from_f64(x: f64) -> Self;
+    /// Widens (or unwraps) to `f64`; exact for `f32` and `f64`.
+    fn to_f64(self) -> f64;
+
+    /// Square root, correctly rounded.
+    fn sqrt(self) -> Self;
+    /// Absolute value, exact.
+    fn abs(self) -> Self;
+    /// Sine, libm (about 1 ulp).
+    fn sin(self) -> Self;
+    /// Cosine, libm (about 1 ulp).
+    fn cos(self) -> Self;
+    /// Arc cosine, libm (about 1 ulp).
+    fn acos(self) -> Self;
+    /// Two-argument arc tangent, libm (about 2 ulp).
+    fn atan2(self, x: Self) -> Self;
+    /// Cube root, libm (about 1 ulp).
+    fn cbrt(self) -> Self;
+    /// Natural logarithm, libm (about 1 ulp).
+    fn ln(self) -> Self;
+    /// Exponential, libm (about 1 ulp).
+    fn exp(self) -> Self;
+
+    /// True unless NaN or infinite.
+    fn is_finite(self) -> bool;
+
+    /// The larger of two numbers; `self` if `other` is NaN.
+    #[inline]
+    fn max(self, other: Self) -> Self {
+        if other > self {
+            other
+        } else {
+            self
+        }
+    }
+    /// The smaller of two numbers; `self` if `other` is NaN.
+    #[inline]
+    fn min(self, other: Self) -> Self {
+        if other < self {
+            other
+        } else {
+            self
+        }
+    }
+    /// `|self|` with the sign of `sign`.
+    #[inline]
+    fn copysign(self, sign: Self) -> Self {
+        let a = self.abs();
+        if sign < Self::ZERO {
+            -a
+        } else {
+            a
+        }
+    }
+}
+
+macro_rules! impl_real {
+    ($t:ty, $sqrt:ident, $sin:ident, $cos:ident, $acos:ident, $atan2:ident, $cbrt:ident, $ln:ident, $exp:ident) => {
+        impl Real for $t {
+            const EPSILON: Self = <$t>::EPSILON;
+            const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
+            const MAX: Self = <$t>::MAX;
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+
+            #[inline]
+            fn from_f64(x: f64) -> Self {
+                x as $t
+            }
+            #[inline]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline]
+            fn sqrt(self) -> Self {
+                libm::$sqrt(self)
+            }
+            #[inline]
+            fn abs(self) -> Self {
+                if self < 0.0 {
+                    -self
+                } else {
+                    self
+                }
+            }
+            #[inline]
+            fn sin(self) -> Self {
+                libm::$sin(self)
+            }
+            #[inline]
+            fn cos(self) -> Self {
+                libm::$cos(self)
+            }
+            #[inline]
+            fn acos(self) -> Self {
+                libm::$acos(self)
+            }
+            #[inline]
+            fn atan2(self, x: Self) -> Self {
+                libm::$atan2(self, x)
+            }
+            #[inline]
+            fn cbrt(self) -> Self {
+                libm::$cbrt(self)
+            }
+            #[inline]
+            fn ln(self) -> Self {
+                libm::$ln(self)
+            }
+            #[inline]
+            fn exp(self) -> Self {
+                libm::$exp(self)
+            }
+            #[inline]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+        }
+    };
+}
+
+impl_real!(f32, sqrtf, sinf, cosf, acosf, atan2f, cbrtf, logf, expf);
+impl_real!(f64, sqrt, sin, cos, acos, atan2, cbrt, log, exp);
+
+/// `x * x`.
+#[inline]
+pub(crate) fn sq<T: Real>(x: T) -> T {
+    x * x
+}
+
+/// A small integer or simple constant as `T` (not counted as a flop).
+#[inline]
+pub(crate) fn c<T: Real>(x: f64) -> T {
+    T::from_f64(x)
+}

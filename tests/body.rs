@@ -1,0 +1,255 @@
+//! `Body`: validation, the mass matrix, invariants, and the principal axes of a full
+//! inertia tensor (recompose and compare).
+
+#![allow(clippy::needless_range_loop)] // index loops read like the matrix formulas
+
+mod common;
+
+use common::Rng;
+use proptest::prelude::*;
+use rigid3::{Body, BodyError};
+
+fn rot(q: [f64; 4]) -> [[f64; 3]; 3] {
+    let [w, x, y, z] = q;
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
+/// R diag(d) R^T
+fn tensor(r: [[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {
+    let mut a = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            a[i][j] = (0..3).map(|k| r[i][k] * d[k] * r[j][k]).sum();
+        }
+    }
+    a
+}
+
+fn max_diff(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> f64 {
+    let mut e: f64 = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            e = e.max((a[i][j] - b[i][j]).abs());
+        }
+    }
+    e
+}
+
+fn random_quat(rng: &mut Rng) -> [f64; 4] {
+    let q = [
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    ];
+    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+}
+
+#[test]
+fn bad_moments_are_named() {
+    assert_eq!(
+        Body::from_inertia([f64::NAN, 1.0, 1.0]),
+        Err(BodyError::NonFinite)
+    );
+    assert_eq!(
+        Body::from_inertia([1.0, f64::INFINITY, 1.0]),
+        Err(BodyError::NonFinite)
+    );
+    assert_eq!(
+        Body::from_inertia([1.0, 0.0, 1.0]),
+        Err(BodyError::NonPositiveMoment)
+    );
+    assert_eq!(
+        Body::from_inertia([1.0, 1.0, -2.0]),
+        Err(BodyError::NonPositiveMoment)
+    );
+    assert_eq!(
+        Body::from_inertia([1.0, 1.0, 3.0]),
+        Err(BodyError::TriangleInequality)
+    );
+    assert_eq!(
+        Body::from_inertia([1.0f32, 1.0, 2.001]),
+        Err(BodyError::TriangleInequality)
+    );
+    assert_eq!(
+        Body::from_mass_matrix([1.0, -0.1, 1.0]),
+        Err(BodyError::NegativeMassMatrix)
+    );
+    assert_eq!(
+        Body::from_mass_matrix([0.0, 0.0, 1.0]),
+        Err(BodyError::NonPositiveMoment)
+    );
+    assert_eq!(
+        Body::from_mass_matrix([0.0, f64::NAN, 1.0]),
+        Err(BodyError::NonFinite)
+    );
+}
+
+#[test]
+fn planar_body_is_valid_despite_rounding() {
+    // 0.1 + 0.2 != 0.3 in binary: the flat plate I3 = I1 + I2 must still be accepted
+    let plate = Body::from_inertia([0.1f64, 0.2, 0.3]).unwrap();
+    assert_eq!(plate.mass_matrix()[2], 0.0);
+    let plate = Body::from_inertia([1.0f32, 2.0, 3.0]).unwrap();
+    assert_eq!(plate.mass_matrix(), [2.0, 1.0, 0.0]);
+}
+
+#[test]
+fn mass_matrix_and_inertia_round_trip() {
+    let b = Body::<f64>::from_mass_matrix([0.9218, 0.7382, 0.1763]).unwrap();
+    let i = b.inertia();
+    assert!(
+        (i[0] - 0.9145).abs() < 1e-15
+            && (i[1] - 1.0981).abs() < 1e-15
+            && (i[2] - 1.66).abs() < 1e-15
+    );
+    let back = Body::from_inertia(i).unwrap().mass_matrix();
+    for (x, y) in back.iter().zip(b.mass_matrix().iter()) {
+        assert!((x - y).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn invariants_match_their_definitions() {
+    let b = Body::<f64>::from_inertia([0.6, 0.8, 1.0]).unwrap();
+    let m = [1.8, 0.4, -0.9];
+    let w = b.angular_velocity(&m);
+    assert_eq!(w, [3.0, 0.5, -0.9]);
+    // E = 1/2 m . Omega
+    let e = 0.5 * (m[0] * w[0] + m[1] * w[1] + m[2] * w[2]);
+    assert!((b.energy(&m) - e).abs() < 1e-15);
+    assert!((b.casimir(&m) - 4.21).abs() < 1e-15);
+}
+
+fn check_tensor(d: [f64; 3], q: [f64; 4]) {
+    let a = tensor(rot(q), d);
+    let (body, frame) = Body::from_inertia_tensor(a).unwrap();
+    let mut sorted = d;
+    sorted.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    let scale = sorted[2];
+    let got = body.inertia();
+    for k in 0..3 {
+        assert!(
+            (got[k] - sorted[k]).abs() <= 8.0 * f64::EPSILON * scale,
+            "{got:?} vs {sorted:?}"
+        );
+    }
+    assert!(got[0] <= got[1] && got[1] <= got[2]);
+    let n = frame.iter().map(|x| x * x).sum::<f64>();
+    assert!((n - 1.0).abs() < 1e-15 && frame[0] >= 0.0);
+    let r = rot(frame);
+    assert!(
+        max_diff(tensor(r, got), a) <= 16.0 * f64::EPSILON * scale,
+        "recompose"
+    );
+    // sign convention: first two axes have their largest component positive (skipped on a
+    // tie to round-off, where either component may lead)
+    for col in 0..2 {
+        let mut v = [r[0][col].abs(), r[1][col].abs(), r[2][col].abs()];
+        let lead = [r[0][col], r[1][col], r[2][col]]
+            .into_iter()
+            .fold(0.0f64, |acc, x| if x.abs() > acc.abs() { x } else { acc });
+        v.sort_by(|x, y| x.partial_cmp(y).unwrap());
+        if v[2] - v[1] > 1e-12 {
+            assert!(lead > 0.0, "axis {col} leads with {lead}");
+        }
+    }
+}
+
+#[test]
+fn principal_axes_recompose_the_tensor() {
+    let mut rng = Rng::new(5);
+    for _ in 0..5000 {
+        let a = rng.range(0.1, 2.0);
+        let b = rng.range(0.1, 2.0);
+        let c = rng.range((a - b).abs(), a + b);
+        check_tensor([a, b, c], random_quat(&mut rng));
+    }
+}
+
+#[test]
+fn repeated_moments_recompose_the_tensor() {
+    let mut rng = Rng::new(6);
+    for _ in 0..1000 {
+        let q = random_quat(&mut rng);
+        check_tensor([1.0, 1.0, 1.5], q);
+        check_tensor([2.0, 1.0, 2.0], q);
+        check_tensor([0.7, 0.7, 0.7], q);
+        check_tensor([1.0, 1.0 + 1e-9, 1.5], q);
+    }
+    // already diagonal and a permutation of the axes
+    check_tensor([3.0, 1.0, 2.5], [1.0, 0.0, 0.0, 0.0]);
+    check_tensor([3.0, 1.0, 2.5], [0.5, 0.5, 0.5, 0.5]);
+}
+
+#[test]
+fn bad_tensors_are_named() {
+    let a = tensor(rot([0.8, 0.6, 0.0, 0.0]), [1.0, 2.0, 2.5]);
+    let mut b = a;
+    b[0][1] += 1e-3;
+    assert_eq!(
+        Body::from_inertia_tensor(b).unwrap_err(),
+        BodyError::NotSymmetric
+    );
+    let mut b = a;
+    b[2][2] = f64::NAN;
+    assert_eq!(
+        Body::from_inertia_tensor(b).unwrap_err(),
+        BodyError::NonFinite
+    );
+    let b = tensor(rot([0.8, 0.6, 0.0, 0.0]), [-1.0, 2.0, 2.5]);
+    assert_eq!(
+        Body::from_inertia_tensor(b).unwrap_err(),
+        BodyError::NonPositiveMoment
+    );
+    let b = tensor(rot([0.8, 0.6, 0.0, 0.0]), [1.0, 1.0, 2.5]);
+    assert_eq!(
+        Body::from_inertia_tensor(b).unwrap_err(),
+        BodyError::TriangleInequality
+    );
+}
+
+#[test]
+fn f32_tensor_recomposes() {
+    let q = [0.9238795, 0.0, 0.3826834, 0.0];
+    let a = tensor(rot(q), [1.0, 2.0, 2.5]);
+    let a32 = a.map(|r| r.map(|x| x as f32));
+    let (body, frame) = Body::<f32>::from_inertia_tensor(a32).unwrap();
+    let got = body.inertia();
+    assert!(
+        (got[0] - 1.0).abs() < 1e-5 && (got[1] - 2.0).abs() < 1e-5 && (got[2] - 2.5).abs() < 1e-5
+    );
+    let r = rot(frame.map(|x| x as f64));
+    assert!(max_diff(tensor(r, got.map(|x| x as f64)), a) < 1e-5);
+}
+
+proptest! {
+    #[test]
+    fn any_valid_tensor_recomposes(
+        a in 0.01f64..100.0, b in 0.01f64..100.0, t in 0.0f64..1.0,
+        q0 in -1.0f64..1.0, q1 in -1.0f64..1.0, q2 in -1.0f64..1.0, q3 in -1.0f64..1.0,
+    ) {
+        let n = (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3).sqrt();
+        prop_assume!(n > 1e-3);
+        let c = (a - b).abs() + t * (a + b - (a - b).abs());
+        prop_assume!(c > 0.0);
+        check_tensor([a, b, c], [q0 / n, q1 / n, q2 / n, q3 / n]);
+    }
+}
