@@ -17,7 +17,8 @@
 //!
 //! | type | method | order | conserves |
 //! |---|---|---|---|
-//! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors) | 2 | `|m|^2`, `E`, `R(q) m` |
+//! | [`Mv`] | closed-form explicit DMV: one 3x3 solve, no sqrt, no trig (flagship) | 2 | `|m|^2`, `E`, `R(q) m` |
+//! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors), as published | 2 | `|m|^2`, `E`, `R(q) m` |
 //!
 //! Every method implements [`Integrator`]: `step` advances momentum only, `step_state`
 //! momentum and attitude. A step that cannot be taken returns a [`StepError`] and leaves
@@ -48,11 +49,13 @@ pub mod cubic;
 mod error;
 mod integrator;
 mod linalg;
+mod mv;
 mod mv_seed;
 mod real;
 
 pub use body::Body;
 pub use error::{BodyError, StepError};
 pub use integrator::{Integrator, State};
+pub use mv::Mv;
 pub use mv_seed::SeedMv;
 pub use real::Real;

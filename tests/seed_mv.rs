@@ -275,3 +275,26 @@ fn f32_talk_case_order_and_invariants() {
         Err(StepError::StepTooLarge)
     );
 }
+
+#[test]
+fn momentum_on_an_axis_at_the_step_where_two_roots_collide() {
+    // m = r e_i makes X a rotation about e_i, so mu = J_i^2 is a root and the other two solve
+    // mu^2 - (J_j^2 + J_k^2 - h^2 r^2) mu + J_j^2 J_k^2 = 0. They collide with each other at
+    // h r = J_j - J_k, and with J_i^2 where h^2 r^2 = J_j^2 + J_k^2 - J_i^2 - J_j^2 J_k^2 / J_i^2.
+    // There the eigenvectors are not unique: Err or the exact answer (m is a fixed point).
+    let body = talk_body();
+    let [j1, j2, j3] = TALK_J;
+    let double_in_plane = j2 - j3; // axis 1
+    let with_axis = (j1 * j1 + j3 * j3 - j2 * j2 - j1 * j1 * j3 * j3 / (j2 * j2)).sqrt(); // axis 2
+    let cases = [
+        ([1.0, 0.0, 0.0], double_in_plane),
+        ([0.0, 1.0, 0.0], with_axis),
+    ];
+    for (m0, h) in cases {
+        for dh in [0.0, 1e-12, -1e-12] {
+            if let Ok(m) = err_or_correct(body, h + dh, m0) {
+                assert!(dist(m, m0) <= 1e-12, "m0 {m0:?} h {h}: {m:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,236 @@
+//! The closed-form `Mv` against the independent general Cardoso–Leite solver: random inputs,
+//! and each degenerate case where the talk's algorithm (`SeedMv`) refuses or fails.
+
+use rigid3::{Body, Integrator, Mv, SeedMv, State, StepError};
+use rigid3_lab::general::dmv_x3;
+
+struct Rng(u64);
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+}
+
+/// Max difference of momentum (relative to |m|) and of the rotation X between one `Mv` step
+/// and the general solver.
+fn compare(j: [f64; 3], m0: [f64; 3], h: f64) -> f64 {
+    let body = Body::from_mass_matrix(j).unwrap();
+    let x = dmv_x3(j, m0, h).unwrap_or_else(|e| panic!("general {e:?}: J {j:?} m {m0:?} h {h}"));
+    let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+    Mv::new(body, h)
+        .step_state(&mut s)
+        .unwrap_or_else(|e| panic!("Mv {e:?}: J {j:?} m {m0:?} h {h}"));
+    let r = (m0[0] * m0[0] + m0[1] * m0[1] + m0[2] * m0[2])
+        .sqrt()
+        .max(f64::MIN_POSITIVE);
+    let mut worst = 0.0f64;
+    for c in 0..3 {
+        let mg = x[0][c] * m0[0] + x[1][c] * m0[1] + x[2][c] * m0[2];
+        worst = worst.max((s.m[c] - mg).abs() / r);
+    }
+    // R(q) must equal X (q0 = 1)
+    let [w, a, b, cc] = s.q;
+    let rq = [
+        [
+            1.0 - 2.0 * (b * b + cc * cc),
+            2.0 * (a * b - w * cc),
+            2.0 * (a * cc + w * b),
+        ],
+        [
+            2.0 * (a * b + w * cc),
+            1.0 - 2.0 * (a * a + cc * cc),
+            2.0 * (b * cc - w * a),
+        ],
+        [
+            2.0 * (a * cc - w * b),
+            2.0 * (b * cc + w * a),
+            1.0 - 2.0 * (a * a + b * b),
+        ],
+    ];
+    for i in 0..3 {
+        for k in 0..3 {
+            worst = worst.max((rq[i][k] - x[i][k]).abs());
+        }
+    }
+    worst
+}
+
+#[test]
+fn mv_agrees_with_the_general_solver_on_ten_thousand_random_inputs() {
+    let mut rng = Rng(77);
+    let mut worst = 0.0f64;
+    for _ in 0..10_000 {
+        let j = [
+            rng.range(0.02, 1.0),
+            rng.range(0.02, 1.0),
+            rng.range(0.02, 1.0),
+        ];
+        let body = Body::from_mass_matrix(j).unwrap();
+        let r = rng.range(0.1, 3.0);
+        let m0 = [
+            r * rng.range(-1.0, 1.0),
+            r * rng.range(-1.0, 1.0),
+            r * rng.range(-1.0, 1.0),
+        ];
+        let h = rng.range(0.001, 0.98) * Mv::max_step(&body, &m0).min(20.0);
+        worst = worst.max(compare(j, m0, h));
+    }
+    println!("max difference Mv vs general over 1e4 random steps: {worst:e}");
+    assert!(worst <= 1e-13, "{worst:e}");
+}
+
+/// A degenerate case: Mv must agree with the general solver; report what SeedMv does.
+fn degenerate(name: &str, j: [f64; 3], m0: [f64; 3], h: f64) {
+    let d = compare(j, m0, h);
+    let mut m = m0;
+    let seed = SeedMv::new(Body::from_mass_matrix(j).unwrap(), h).step(&mut m);
+    println!("{name}: Mv vs general {d:e}; SeedMv {seed:?}");
+    assert!(d <= 1e-13, "{name}: {d:e}");
+}
+
+#[test]
+fn two_equal_moments() {
+    degenerate("symmetric top", [0.5, 0.5, 1.0], [0.3, 0.4, 1.2], 0.2);
+    degenerate(
+        "symmetric top, m on the axis",
+        [0.5, 0.5, 1.0],
+        [0.0, 0.0, 1.2],
+        0.2,
+    );
+    degenerate(
+        "symmetric top, m off the axis",
+        [0.5, 0.5, 1.0],
+        [1.0, 0.0, 0.0],
+        0.2,
+    );
+}
+
+#[test]
+fn three_equal_moments() {
+    degenerate("sphere", [0.5, 0.5, 0.5], [0.3, -0.2, 0.9], 0.1);
+}
+
+#[test]
+fn zero_momentum() {
+    // the general solver is exact here too: X = I
+    let body = Body::from_mass_matrix([0.5, 0.5, 0.5]).unwrap();
+    let mut m = [0.0; 3];
+    Mv::new(body, 0.1).step(&mut m).unwrap();
+    assert_eq!(m, [0.0; 3]);
+    degenerate("m = 0, distinct J", [0.9218, 0.7382, 0.1763], [0.0; 3], 0.1);
+}
+
+#[test]
+fn momentum_on_a_principal_axis() {
+    let j = [0.9218, 0.7382, 0.1763];
+    degenerate("axis 1", j, [1.0, 0.0, 0.0], 0.3);
+    degenerate("axis 2", j, [0.0, 1.0, 0.0], 0.3);
+    degenerate("axis 3", j, [0.0, 0.0, 1.0], 0.3);
+    degenerate("axis 1, roots collide", j, [1.0, 0.0, 0.0], j[1] - j[2]);
+}
+
+#[test]
+fn planar_body() {
+    degenerate("flat plate", [2.0, 1.0, 0.0], [0.6, -0.5, 0.7], 0.1);
+    degenerate(
+        "flat plate, big step",
+        [2.0, 1.0, 0.0],
+        [0.6, -0.5, 0.7],
+        1.0,
+    );
+}
+
+#[test]
+fn nearly_planar_body() {
+    // J3 = 1e-9 is below the general solver's eigenvalue resolution (it reports NoSplit), so
+    // the oracles are continuity (the map is smooth in J: within ~1e-9 of the planar
+    // solution, which the general solver does handle) and SeedMv where it succeeds
+    let m0 = [0.6, -0.5, 0.7];
+    let x0 = dmv_x3([2.0, 1.0, 0.0], m0, 0.1).unwrap();
+    for j3 in [1e-6, 1e-9, 1e-12] {
+        let body = Body::from_mass_matrix([2.0, 1.0, j3]).unwrap();
+        let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+        Mv::new(body, 0.1).step_state(&mut s).unwrap();
+        for c in 0..3 {
+            let mp = x0[0][c] * m0[0] + x0[1][c] * m0[1] + x0[2][c] * m0[2];
+            assert!(
+                (s.m[c] - mp).abs() <= 10.0 * j3 + 1e-15,
+                "J3 {j3}: {:?}",
+                s.m
+            );
+        }
+        let mut seed = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+        if SeedMv::new(body, 0.1).step_state(&mut seed).is_ok() {
+            for c in 0..3 {
+                assert!((s.m[c] - seed.m[c]).abs() <= 1e-12, "J3 {j3}");
+            }
+        }
+    }
+}
+
+#[test]
+fn repeated_roots_where_the_talks_algorithm_refuses() {
+    // m = 0 with two or three equal J_i: the talk's eigenvectors are not unique
+    for j in [[0.5, 0.5, 0.5], [0.5, 0.5, 1.0]] {
+        let body = Body::from_mass_matrix(j).unwrap();
+        let mut m = [0.0; 3];
+        let seed = SeedMv::new(body, 0.1).step(&mut m);
+        let mut s = State::new([0.0f64; 3], [1.0, 0.0, 0.0, 0.0]);
+        Mv::new(body, 0.1).step_state(&mut s).unwrap();
+        assert_eq!(s.m, [0.0; 3]);
+        assert!((s.q[0] - 1.0).abs() < 1e-15, "X = I for m = 0");
+        println!("J {j:?}, m = 0: SeedMv {seed:?}, Mv exact");
+    }
+}
+
+#[test]
+fn tiny_steps() {
+    let j = [0.9218, 0.7382, 0.1763];
+    for h in [1e-4, 1e-6, 1e-8] {
+        degenerate(&format!("h = {h:e}"), j, [0.4165, 0.9072, 0.0588], h);
+    }
+}
+
+#[test]
+fn huge_and_tiny_momenta() {
+    let j = [0.9218, 0.7382, 0.1763];
+    for k in [1e-150, 1e150] {
+        let m0 = [0.4165 * k, 0.9072 * k, 0.0588 * k];
+        degenerate(&format!("|m| ~ {k:e}"), j, m0, 0.1 / k);
+    }
+}
+
+#[test]
+fn near_the_separatrix() {
+    // I = (1, 2, 3): J = (2, 1, 0) is planar; use I = (1, 2, 2.5): J = (1.75, 0.75, 0.25)
+    let j = [1.75, 0.75, 0.25];
+    degenerate(
+        "m within 1e-3 of the middle axis",
+        j,
+        [1e-3, 1.0, 1e-3],
+        0.1,
+    );
+    degenerate("m within 1e-9 of the middle axis", j, [1e-9, 1.0, 0.0], 0.1);
+}
+
+#[test]
+fn past_the_limit_both_refuse() {
+    let j = [0.9218, 0.7382, 0.1763];
+    let body = Body::from_mass_matrix(j).unwrap();
+    let m0 = [0.4165, 0.9072, 0.0588];
+    let hmax = Mv::max_step(&body, &m0);
+    let mut m = m0;
+    assert_eq!(
+        Mv::new(body, 1.001 * hmax).step(&mut m),
+        Err(StepError::StepTooLarge)
+    );
+    assert!(dmv_x3(j, m0, 1.001 * hmax).is_err());
+    assert!(dmv_x3(j, m0, 0.999 * hmax).is_ok());
+}

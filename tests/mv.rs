@@ -1,0 +1,442 @@
+//! `Mv`, the closed-form DMV step: against `SeedMv` (a different algorithm for the same map),
+//! the reference solution, conservation laws over 10^6 steps, time reversal, its existence
+//! limit, and the degenerate inputs where the talk's algorithm fails. Agreement with the
+//! general Cardoso–Leite solver, degenerate cases included, is in `lab/tests/mv_vs_general.rs`.
+
+#![allow(clippy::needless_range_loop)] // index loops read like the matrix formulas
+
+mod common;
+
+use common::*;
+use rigid3::{Body, Integrator, Mv, SeedMv, State, StepError};
+
+fn talk_body() -> Body<f64> {
+    Body::from_mass_matrix(TALK_J).unwrap()
+}
+
+#[test]
+fn agrees_with_the_talks_algorithm_on_random_inputs() {
+    let mut rng = Rng::new(31);
+    let (mut compared, mut worst) = (0, 0.0f64);
+    while compared < 10_000 {
+        let j = [
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+        ];
+        let body = Body::from_mass_matrix(j).unwrap();
+        let d = rng.direction();
+        let r = rng.range(0.1, 3.0);
+        let m0 = [r * d[0], r * d[1], r * d[2]];
+        let h = rng.range(0.001, 1.0) * Mv::max_step(&body, &m0).min(10.0);
+        let mut a = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+        let mut b = a;
+        match (
+            Mv::new(body, h).step_state(&mut a),
+            SeedMv::new(body, h).step_state(&mut b),
+        ) {
+            (Ok(()), Ok(())) => {
+                compared += 1;
+                worst = worst.max(dist(a.m, b.m) / r);
+                for k in 0..4 {
+                    worst = worst.max((a.q[k] - b.q[k]).abs());
+                }
+            }
+            (Ok(()), Err(StepError::Degenerate)) => {}
+            (x, y) => panic!("Mv {x:?}, SeedMv {y:?} at h {h} J {j:?} m {m0:?}"),
+        }
+    }
+    assert!(worst <= 1e-13, "max difference {worst:e}");
+}
+
+#[test]
+fn talk_case_is_second_order_with_the_published_constant() {
+    let body = talk_body();
+    let hs: Vec<f64> = (3..8).map(|k| 0.5f64.powi(k)).collect();
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            let mut mv = Mv::new(body, h);
+            let mut m = TALK_M0;
+            for _ in 0..(10.0 / h).round() as usize {
+                mv.step(&mut m).unwrap();
+            }
+            dist(m, TALK_M10)
+        })
+        .collect();
+    let p = observed_order(&hs, &errs);
+    assert!((p - 2.0).abs() <= 0.05, "order {p}");
+    let constant = errs.last().unwrap() / hs.last().unwrap().powi(2);
+    assert!((constant - 0.51).abs() <= 0.05, "error constant {constant}");
+}
+
+fn drift_run<T: rigid3::Real>(steps: usize, h: f64) -> [f64; 3] {
+    let body = Body::<T>::from_mass_matrix(TALK_J.map(T::from_f64)).unwrap();
+    let mut mv = Mv::new(body, T::from_f64(h));
+    let mut s = State::new(
+        TALK_M0.map(T::from_f64),
+        [T::ONE, T::ZERO, T::ZERO, T::ZERO],
+    );
+    let wide = |s: &State<T>| {
+        let m = s.m.map(|x| x.to_f64());
+        let b = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
+        let p = State::new(m, s.q.map(|x| x.to_f64())).spatial_momentum();
+        (b.casimir(&m), b.energy(&m), p)
+    };
+    let (c0, e0, p0) = wide(&s);
+    let mut d = [0.0f64; 3];
+    for k in 0..steps {
+        mv.step_state(&mut s).unwrap();
+        if k % 97 == 0 || k + 1 == steps {
+            let (c, e, p) = wide(&s);
+            d[0] = d[0].max((c - c0).abs() / c0);
+            d[1] = d[1].max((e - e0).abs() / e0);
+            d[2] = d[2].max(dist(p, p0) / norm(p0));
+        }
+    }
+    d
+}
+
+#[test]
+fn talk_case_conserves_invariants_over_a_million_steps_f64() {
+    let d = drift_run::<f64>(1_000_000, 0.1);
+    println!(
+        "f64 drift over 1e6 steps: |m|^2 {:e}, E {:e}, R(q)m {:e}",
+        d[0], d[1], d[2]
+    );
+    assert!(d.iter().all(|&x| x <= 1e-12), "{d:?}");
+}
+
+#[test]
+fn talk_case_conserves_invariants_over_a_million_steps_f32() {
+    let d = drift_run::<f32>(1_000_000, 0.1);
+    println!(
+        "f32 drift over 1e6 steps: |m|^2 {:e}, E {:e}, R(q)m {:e}",
+        d[0], d[1], d[2]
+    );
+    assert!(d.iter().all(|&x| x <= 1e-4), "{d:?}");
+}
+
+#[test]
+fn step_back_with_minus_h_is_the_identity() {
+    let mut rng = Rng::new(37);
+    for _ in 0..2000 {
+        let j = [
+            rng.range(0.0, 1.0),
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+        ];
+        let body = Body::from_mass_matrix(j).unwrap();
+        let d = rng.direction();
+        let m0 = [d[0], d[1], d[2]];
+        let h = rng.range(0.001, 0.9) * Mv::max_step(&body, &m0).min(10.0);
+        let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+        Mv::new(body, h).step_state(&mut s).unwrap();
+        Mv::new(body, -h).step_state(&mut s).unwrap();
+        assert!(dist(s.m, m0) <= 1e-14, "{:e} J {j:?} h {h}", dist(s.m, m0));
+        let dq = (s.q[0] - 1.0)
+            .abs()
+            .max(s.q[1].abs())
+            .max(s.q[2].abs())
+            .max(s.q[3].abs());
+        assert!(dq <= 1e-14, "attitude {dq:e}");
+    }
+}
+
+#[test]
+fn max_step_on_the_talks_case() {
+    let body = talk_body();
+    let hmax = Mv::max_step(&body, &TALK_M0);
+    assert!((hmax - TALK_MAX_STEP).abs() <= 1e-8, "{hmax}");
+    let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    Mv::new(body, 0.999 * hmax).step_state(&mut s).unwrap();
+    assert!((body.casimir(&s.m) - body.casimir(&TALK_M0)).abs() < 1e-14);
+    let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    assert_eq!(
+        Mv::new(body, 1.001 * hmax).step_state(&mut s),
+        Err(StepError::StepTooLarge)
+    );
+    assert_eq!(s, State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]));
+    let mut m = TALK_M0;
+    assert_eq!(
+        Mv::new(body, -1.001 * hmax).step(&mut m),
+        Err(StepError::StepTooLarge)
+    );
+    assert_eq!(m, TALK_M0);
+}
+
+#[test]
+fn max_step_matches_where_the_talks_cubic_gets_a_negative_root() {
+    // independent check: bisect on SeedMv, whose existence test solves the cubic
+    let mut rng = Rng::new(41);
+    for _ in 0..300 {
+        let j = [
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+        ];
+        let body = Body::from_mass_matrix(j).unwrap();
+        let d = rng.direction();
+        let m0 = [d[0], d[1], d[2]];
+        let hmax = Mv::max_step(&body, &m0);
+        let exists = |h: f64| {
+            let mut m = m0;
+            !matches!(
+                SeedMv::new(body, h).step(&mut m),
+                Err(StepError::StepTooLarge)
+            )
+        };
+        let (mut lo, mut hi) = (0.0, 50.0);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if exists(mid) {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        // SeedMv is the oracle only where it solves: its first failure point from below
+        assert!(exists(hmax * (1.0 - 1e-9)), "J {j:?} m {m0:?} hmax {hmax}");
+        assert!(
+            (hi - hmax).abs() <= 1e-8 * hmax || !exists(hmax * (1.0 + 1e-9)),
+            "{hi} vs {hmax}"
+        );
+        assert!(
+            !exists(hmax * (1.0 + 1e-6)),
+            "J {j:?} m {m0:?}: step exists past {hmax}"
+        );
+    }
+}
+
+/// Steps once and checks against the exact statement of the degenerate case.
+fn step_ok(body: Body<f64>, h: f64, m0: [f64; 3]) -> State<f64> {
+    let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+    Mv::new(body, h).step_state(&mut s).unwrap();
+    assert!(s.m.iter().chain(s.q.iter()).all(|x| x.is_finite()));
+    let (c0, c1) = (body.casimir(&m0), body.casimir(&s.m));
+    assert!(
+        (c1 - c0).abs() <= 1e-14 * c0.max(f64::MIN_POSITIVE),
+        "casimir {c0} {c1}"
+    );
+    let (e0, e1) = (body.energy(&m0), body.energy(&s.m));
+    assert!(
+        (e1 - e0).abs() <= 1e-14 * e0.max(f64::MIN_POSITIVE),
+        "energy {e0} {e1}"
+    );
+    let p0 = State::new(m0, [1.0, 0.0, 0.0, 0.0]).spatial_momentum();
+    assert!(dist(s.spatial_momentum(), p0) <= 1e-14 * norm(p0).max(f64::MIN_POSITIVE));
+    s
+}
+
+#[test]
+fn zero_momentum_is_a_fixed_point_for_every_body() {
+    for i in [
+        [1.0, 1.0, 1.0],
+        [1.0, 1.0, 2.0],
+        [1.0, 2.0, 3.0],
+        [0.9145, 1.0981, 1.66],
+    ] {
+        let s = step_ok(Body::from_inertia(i).unwrap(), 0.1, [0.0; 3]);
+        assert_eq!(s.m, [0.0; 3]);
+        assert!((s.q[0] - 1.0).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn sphere_does_not_move_m_and_rotates_about_it() {
+    // I = (1, 1, 1), J = I/2: M = X J - J X^T = sin(theta) hat(n) for X the rotation by theta
+    // about n, so the DMV step rotates about m by asin(h |m|) (the flow: by h |m|)
+    let body = Body::from_inertia([1.0, 1.0, 1.0]).unwrap();
+    let m0 = [0.3, -0.2, 0.9];
+    let s = step_ok(body, 0.1, m0);
+    assert!(dist(s.m, m0) < 1e-15);
+    let angle = (0.1 * norm(m0)).asin();
+    let (c, sn) = ((angle / 2.0).cos(), (angle / 2.0).sin() / norm(m0));
+    let q = [c, sn * m0[0], sn * m0[1], sn * m0[2]];
+    for k in 0..4 {
+        assert!((s.q[k] - q[k]).abs() < 1e-15, "{:?} vs {q:?}", s.q);
+    }
+}
+
+#[test]
+fn symmetric_top_keeps_its_axial_momentum() {
+    for i in [[1.0, 1.0, 2.0], [2.0, 1.0, 2.0], [1.5, 1.0, 1.0]] {
+        let body = Body::from_inertia(i).unwrap();
+        let m0 = [0.3, 0.4, 1.2];
+        let s = step_ok(body, 0.2, m0);
+        let axis = if i[0] == i[1] {
+            2
+        } else if i[0] == i[2] {
+            1
+        } else {
+            0
+        };
+        assert!((s.m[axis] - m0[axis]).abs() < 1e-15, "{i:?}");
+    }
+}
+
+#[test]
+fn momentum_on_a_principal_axis_is_a_fixed_point() {
+    let body = talk_body();
+    let [j1, j2, j3] = TALK_J;
+    // including the steps where two roots of the talk's cubic collide
+    let special = (j1 * j1 + j3 * j3 - j2 * j2 - j1 * j1 * j3 * j3 / (j2 * j2)).sqrt();
+    for (axis, h) in [(0, 0.1), (1, 0.3), (2, 0.5), (0, j2 - j3), (1, special)] {
+        let mut m0 = [0.0; 3];
+        m0[axis] = 1.0;
+        let s = step_ok(body, h, m0);
+        assert!(dist(s.m, m0) <= 1e-15, "axis {axis} h {h}: {:?}", s.m);
+    }
+}
+
+#[test]
+fn planar_body_steps_and_conserves() {
+    let plate = Body::<f64>::from_inertia([1.0, 2.0, 3.0]).unwrap();
+    assert_eq!(plate.mass_matrix()[2], 0.0);
+    let mut s = State::new([0.6, -0.5, 0.7], [1.0, 0.0, 0.0, 0.0]);
+    let mut mv = Mv::new(plate, 0.1);
+    let (c0, e0, p0) = (
+        plate.casimir(&s.m),
+        plate.energy(&s.m),
+        s.spatial_momentum(),
+    );
+    for _ in 0..10_000 {
+        mv.step_state(&mut s).unwrap();
+    }
+    assert!((plate.casimir(&s.m) - c0).abs() / c0 < 1e-13);
+    assert!((plate.energy(&s.m) - e0).abs() / e0 < 1e-13);
+    assert!(dist(s.spatial_momentum(), p0) / norm(p0) < 1e-13);
+}
+
+#[test]
+fn tiny_steps_converge_to_the_flow() {
+    // h -> 0: one step is m + h m x Omega + O(h^2)
+    let body = talk_body();
+    let w = body.angular_velocity(&TALK_M0);
+    let f = [
+        TALK_M0[1] * w[2] - TALK_M0[2] * w[1],
+        TALK_M0[2] * w[0] - TALK_M0[0] * w[2],
+        TALK_M0[0] * w[1] - TALK_M0[1] * w[0],
+    ];
+    for h in [1e-4, 1e-6, 1e-8] {
+        let s = step_ok(body, h, TALK_M0);
+        for k in 0..3 {
+            let rate = (s.m[k] - TALK_M0[k]) / h;
+            assert!(
+                (rate - f[k]).abs() <= 2.0 * h + 1e-16 / h,
+                "h {h}: {rate} vs {}",
+                f[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn huge_and_tiny_momenta_scale_exactly() {
+    let body = talk_body();
+    let s_ref = step_ok(body, 0.1, TALK_M0);
+    for k in [1e-150, 1e-30, 1e30, 1e150] {
+        let m = TALK_M0.map(|x| x * k);
+        let mut s = State::new(m, [1.0, 0.0, 0.0, 0.0]);
+        Mv::new(body, 0.1 / k).step_state(&mut s).unwrap();
+        for i in 0..3 {
+            assert!((s.m[i] / k - s_ref.m[i]).abs() < 1e-15, "k = {k:e}");
+        }
+        for i in 0..4 {
+            assert!((s.q[i] - s_ref.q[i]).abs() < 1e-15, "k = {k:e}");
+        }
+    }
+}
+
+#[test]
+fn near_the_separatrix_it_conserves_and_agrees_with_seed() {
+    let body = Body::<f64>::from_inertia([1.0, 2.0, 3.0 - 1e-9]).unwrap();
+    let body2 = Body::from_inertia([1.0, 2.0, 2.5]).unwrap();
+    for b in [body, body2] {
+        for m0 in [[1e-3, 1.0, 1e-3], [1e-9, 1.0, 0.0], [0.0, 1.0, 1e-12]] {
+            let mut a = m0;
+            let mut mv = Mv::new(b, 0.05);
+            for _ in 0..2000 {
+                mv.step(&mut a).unwrap();
+            }
+            let c0 = b.casimir(&m0);
+            assert!((b.casimir(&a) - c0).abs() / c0 < 1e-13);
+            assert!((b.energy(&a) - b.energy(&m0)).abs() / b.energy(&m0) < 1e-13);
+        }
+    }
+}
+
+#[test]
+fn a_changed_momentum_is_picked_up_by_the_tracking() {
+    // an estimator overwrites m between steps: the next step must be the DMV step of the new m
+    let body = talk_body();
+    let mut mv = Mv::new(body, 0.1);
+    let mut m = TALK_M0;
+    mv.step(&mut m).unwrap();
+    for (k, scale) in [1.0 + 1e-9, 1.0 + 1e-4, 3.0, 1e-3, 1e2]
+        .into_iter()
+        .enumerate()
+    {
+        let mut fresh = [
+            m[0] * scale,
+            m[1] * scale * (1.0 + 0.01 * k as f64),
+            m[2] * scale,
+        ];
+        let mut tracked = fresh;
+        Mv::new(body, 0.1).step(&mut fresh).unwrap();
+        mv.step(&mut tracked).unwrap();
+        assert!(dist(fresh, tracked) <= 1e-14 * norm(fresh), "scale {scale}");
+        m = tracked;
+    }
+}
+
+#[test]
+fn bad_input_is_refused_and_the_state_kept() {
+    let body = talk_body();
+    for bad in [[f64::NAN, 0.0, 1.0], [f64::INFINITY, 0.0, 0.0]] {
+        let mut m = bad;
+        assert_eq!(Mv::new(body, 0.1).step(&mut m), Err(StepError::NonFinite));
+    }
+    let mut m = TALK_M0;
+    for h in [f64::NAN, f64::INFINITY] {
+        assert_eq!(Mv::new(body, h).step(&mut m), Err(StepError::NonFinite));
+        assert_eq!(m, TALK_M0);
+    }
+    let mut s = State::new(TALK_M0, [0.0; 4]);
+    assert_eq!(
+        Mv::new(body, 0.1).step_state(&mut s),
+        Err(StepError::NonFinite)
+    );
+    // m large enough that h m overflows
+    let mut m = [1e308, 1e308, 0.0];
+    assert!(Mv::new(body, 1e10).step(&mut m).is_err());
+    assert_eq!(Mv::max_step(&body, &[f64::NAN, 0.0, 0.0]), 0.0);
+    assert_eq!(Mv::max_step(&body, &[0.0; 3]), f64::MAX);
+}
+
+#[test]
+fn f32_order_and_limits() {
+    let body = Body::<f32>::from_mass_matrix(to_f32(TALK_J)).unwrap();
+    let hs = [0.2f64, 0.1, 0.05];
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            let mut mv = Mv::new(body, h as f32);
+            let mut m = to_f32(TALK_M0);
+            for _ in 0..(10.0 / h).round() as usize {
+                mv.step(&mut m).unwrap();
+            }
+            dist(to_f64(m), TALK_M10)
+        })
+        .collect();
+    let p = observed_order(&hs, &errs);
+    assert!((p - 2.0).abs() <= 0.05, "f32 order {p}");
+    let hmax = Mv::max_step(&body, &to_f32(TALK_M0));
+    assert!((hmax as f64 - TALK_MAX_STEP).abs() < 1e-5, "{hmax}");
+    let mut m = to_f32(TALK_M0);
+    assert_eq!(
+        Mv::new(body, hmax * 1.001).step(&mut m),
+        Err(StepError::StepTooLarge)
+    );
+    Mv::new(body, hmax * 0.999).step(&mut m).unwrap();
+}
