@@ -60,6 +60,13 @@ struct Track<T> {
     newton_tol: T,
 }
 
+/// One step's linear system: the updated tracking, `h m / kappa` and `L^T`.
+struct System<T> {
+    t: Track<T>,
+    mm: Vec3<T>,
+    lt: Mat3<T>,
+}
+
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
 ///
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
@@ -174,7 +181,7 @@ impl<T: Real> Mv<T> {
 
     /// `s1`, `s2`, the scaled `M` and `L^T` for momentum `m`, tracking `s1` by one Newton step
     /// or solving for it exactly when the step is not small.
-    fn system(&mut self, m: Vec3<T>) -> Result<(Track<T>, Vec3<T>, Mat3<T>), StepError> {
+    fn system(&mut self, m: Vec3<T>) -> Result<System<T>, StepError> {
         let mut t = match self.track {
             Some(t) => t,
             None => self.resync(m)?,
@@ -208,7 +215,7 @@ impl<T: Real> Mv<T> {
             Vec3::new(xy - sz, a.y + t.j2.y + d, yz + sx),
             Vec3::new(xz + sy, yz - sx, a.z + t.j2.z + d),
         );
-        Ok((t, mm, lt))
+        Ok(System { t, mm, lt })
     }
 
     /// One momentum step; returns the new momentum and, for `step_state`, `X^T`.
@@ -217,7 +224,7 @@ impl<T: Real> Mv<T> {
         m: Vec3<T>,
         with_rotation: bool,
     ) -> Result<(Vec3<T>, Option<Mat3<T>>), StepError> {
-        let (t, mm, lt) = self.system(m)?;
+        let System { t, mm, lt } = self.system(m)?;
         let s1 = t.s1;
         // L^T y = m by Cramer's rule: the rows of adj(L^T) are cross products of its columns
         let r0 = lt.y_axis.cross(lt.z_axis);
