@@ -2,8 +2,6 @@
 //! Cardoso–Leite solver (matrix sign function of the 6x6 Hamiltonian), on random bodies,
 //! momenta and steps inside the existence region.
 
-#![allow(clippy::needless_range_loop)] // index loops read like the matrix formulas
-
 use rigid3::{Body, SeedMv, StepError};
 use rigid3_lab::general::{dmv_x3, ClError};
 
