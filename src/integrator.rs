@@ -49,17 +49,55 @@ pub trait Integrator<T> {
 }
 
 /// Checks a state before a step: finite entries and a non-zero quaternion. Returns the
-/// momentum and the normalised attitude.
+/// momentum and the attitude, normalised only if it is off unit length by more than `2^-10`
+/// (renormalising a unit quaternion every step rounds each component and so turns it by
+/// about an ulp; [`compose_attitude`] keeps the length instead).
 pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>), StepError> {
     let m = Vec3::from_array(s.m);
     if !m.is_finite() {
         return Err(StepError::NonFinite);
     }
-    let (q, ok) = Quat::from_array(s.q).normalize();
+    let q = Quat::from_array(s.q);
+    let n2 = q.norm2();
+    if !(n2 > T::ZERO) || !n2.is_finite() {
+        return Err(StepError::NonFinite);
+    }
+    if (n2 - T::ONE).abs() <= T::from_f64(1.0 / 1024.0) {
+        return Ok((m, q));
+    }
+    let (q, ok) = q.normalize();
     if !ok {
         return Err(StepError::NonFinite);
     }
     Ok((m, q))
+}
+
+/// `q (x) dq` for a (nearly) unit `q` and a unit increment `dq`, with one rounding in the
+/// directions that turn the attitude: written as `q + (q (x) (dq - 1) + nu q)`, where
+/// `q (x) (dq - 1)` is small (relative rounding only) and `nu = (1 - |q (x) dq|^2) / 2` pulls
+/// the length back to one to first order (its rounding only scales q, which turns nothing).
+/// With the plain product and a renormalisation, every component is rounded two or three
+/// times a step, which in f32 turns the attitude by about `2e-7` a step and limits the
+/// conservation of `R(q) m` to about `2e-4` over `10^6` steps; this form halves that twice.
+/// No square root.
+pub(crate) fn compose_attitude<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
+    let d = Quat {
+        w: dq.w - T::ONE,
+        x: dq.x,
+        y: dq.y,
+        z: dq.z,
+    };
+    let inc = q.mul(d);
+    let half = T::from_f64(0.5);
+    // |q + inc|^2 = |q|^2 + 2 q.inc + |inc|^2
+    let q_inc = q.w * inc.w + q.x * inc.x + q.y * inc.y + q.z * inc.z;
+    let nu = (T::ONE - q.norm2()) * half - q_inc - inc.norm2() * half;
+    Quat {
+        w: q.w + (inc.w + nu * q.w),
+        x: q.x + (inc.x + nu * q.x),
+        y: q.y + (inc.y + nu * q.y),
+        z: q.z + (inc.z + nu * q.z),
+    }
 }
 
 /// Checks a momentum before a step.

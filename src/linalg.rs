@@ -137,7 +137,6 @@ impl<T: Real> Mat3<T> {
             self.z_axis.add(o.z_axis),
         )
     }
-    #[cfg(test)]
     #[inline]
     pub fn sub(&self, o: &Self) -> Self {
         Self::from_cols(
@@ -265,6 +264,10 @@ impl<T: Real> Quat<T> {
     #[inline]
     pub fn vector(self) -> Vec3<T> {
         Vec3::new(self.x, self.y, self.z)
+    }
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.w.is_finite() && self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
     }
     #[inline]
     pub fn norm2(self) -> T {

@@ -33,7 +33,7 @@
 use crate::body::Body;
 use crate::cubic::{quartic_eval, quartic_largest_root, solve_cubic, CubicRoots};
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, Integrator, State};
+use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
 
@@ -54,17 +54,30 @@ struct Track<T> {
     pair_j2: T,
     /// `s3 = j1 j2 j3`.
     s3: T,
+    /// `8 s3`.
+    s3x8: T,
+    /// `1 / q'(s1)` at the exact solve: the invariants are constant along a trajectory, so
+    /// the derivative is too, and the tracking step needs no division (a chord step, which
+    /// converges like Newton's while the invariants move by at most `sqrt(eps)`).
+    inv_dq: T,
     /// Largest root of the quartic for the current invariants.
     s1: T,
     /// `2 sqrt(eps) s1`: a Newton correction above it means the invariants moved.
     newton_tol: T,
 }
 
-/// One step's linear system: the updated tracking, `h m / kappa` and `L^T`.
+/// The new momentum and, when asked for, `X^T` with the Casimir factor applied to the input.
+struct Advanced<T> {
+    next: Vec3<T>,
+    rotation: Option<(Mat3<T>, T)>,
+}
+
+/// What one step needs from the tracking: the updated data, the coefficients of this `m`
+/// and the `s1` to use.
 struct System<T> {
     t: Track<T>,
-    mm: Vec3<T>,
-    lt: Mat3<T>,
+    k: Coefficients<T>,
+    s1: T,
 }
 
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
@@ -167,55 +180,58 @@ impl<T: Real> Mv<T> {
             sum_j2: j2.x + j2.y + j2.z,
             pair_j2: j2.x * j2.y + j2.x * j2.z + j2.y * j2.z,
             s3: jn.x * jn.y * jn.z,
+            s3x8: c::<T>(8.0) * jn.x * jn.y * jn.z,
+            inv_dq: T::ZERO,
             s1: T::ZERO,
             newton_tol: T::ZERO,
         };
-        let (big_a, big_b, _) = t.coefficients(m);
+        let Coefficients { big_a, big_b, .. } = t.coefficients(m);
         if !exists(big_a, big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
         t.s1 = quartic_largest_root(big_a, big_b, t.s3).ok_or(StepError::StepTooLarge)?;
         t.newton_tol = c::<T>(2.0) * T::EPSILON.sqrt() * t.s1;
+        let (_, dq) = quartic_eval(t.s1, big_a, big_b, t.s3);
+        if !(dq > T::ZERO) {
+            // the largest root is simple (MATH.md §4); a flat quartic means no valid split
+            return Err(StepError::Degenerate);
+        }
+        t.inv_dq = T::ONE / dq;
         Ok(t)
     }
 
-    /// `s1`, `s2`, the scaled `M` and `L^T` for momentum `m`, tracking `s1` by one Newton step
-    /// or solving for it exactly when the step is not small.
-    fn system(&mut self, m: Vec3<T>) -> Result<System<T>, StepError> {
+    /// The tracking data, `s1` for this step and the coefficients for momentum `m`.
+    ///
+    /// In a free-running trajectory (`m` is the momentum this integrator returned last) the
+    /// invariants are those of the previous step to round-off, so this step uses the `s1`
+    /// already tracked and the chord correction for the current invariants is only stored
+    /// for the next step: it runs beside the solve instead of before it. When the caller
+    /// changed `m`, the correction is applied first (or `s1` solved exactly if it is large).
+    fn system(&mut self, m: Vec3<T>, free_running: bool) -> Result<System<T>, StepError> {
         let mut t = match self.track {
             Some(t) => t,
             None => self.resync(m)?,
         };
-        let (mut big_a, big_b, mut mm) = t.coefficients(m);
-        let s3 = t.s3;
-        if !exists(big_a, big_b, sq(s3)) {
+        let mut k = t.coefficients(m);
+        if !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
-        let (q, dq) = quartic_eval(t.s1, big_a, big_b, s3);
-        let delta = q / dq;
-        if dq > T::ZERO && delta.abs() <= t.newton_tol {
+        // q(s1) for the current invariants, and one chord step
+        let u = sq(t.s1) - k.big_a;
+        let q = sq(u) - t.s3x8 * t.s1 - c::<T>(4.0) * k.big_b;
+        let delta = q * t.inv_dq;
+        let s1 = if delta.abs() <= t.newton_tol {
+            let used = if free_running { t.s1 } else { t.s1 - delta };
             t.s1 -= delta;
+            used
         } else {
             // the invariants moved (the caller changed m, or the first step): solve exactly,
             // with the scale re-chosen for this m
             t = self.resync(m)?;
-            let (a, _, x) = t.coefficients(m);
-            big_a = a;
-            mm = x;
-        }
-        let s1 = t.s1;
-        let s2 = (sq(s1) - big_a) * c(0.5);
-        // L^T = M^2 + J^2 + s1 M + s2 I with M = hat(mm), M^2 = mm mm^T - |mm|^2 I
-        let a = mm.mul_elem(mm);
-        let d = s2 - (a.x + a.y + a.z);
-        let (xy, xz, yz) = (mm.x * mm.y, mm.x * mm.z, mm.y * mm.z);
-        let (sx, sy, sz) = (s1 * mm.x, s1 * mm.y, s1 * mm.z);
-        let lt = Mat3::from_cols(
-            Vec3::new(a.x + t.j2.x + d, xy + sz, xz - sy),
-            Vec3::new(xy - sz, a.y + t.j2.y + d, yz + sx),
-            Vec3::new(xz + sy, yz - sx, a.z + t.j2.z + d),
-        );
-        Ok(System { t, mm, lt })
+            k = t.coefficients(m);
+            t.s1
+        };
+        Ok(System { t, k, s1 })
     }
 
     /// One momentum step; returns the new momentum and, for `step_state`, `X^T`.
@@ -223,9 +239,39 @@ impl<T: Real> Mv<T> {
         &mut self,
         m: Vec3<T>,
         with_rotation: bool,
-    ) -> Result<(Vec3<T>, Option<Mat3<T>>), StepError> {
-        let System { t, mm, lt } = self.system(m)?;
-        let s1 = t.s1;
+    ) -> Result<Advanced<T>, StepError> {
+        // X is orthogonal only to round-off, and that round-off is correlated along the
+        // orbit, so |m|^2 would drift linearly (7.6e-12 in f64, 2e-3 in f32 after 10^6 steps
+        // on the talk's case). Each step therefore scales its input back to the trajectory's
+        // |m|^2, to first order (exact to O(eps^2)), with no division or square root; the
+        // factor is folded into the solve. The reference is re-taken whenever the caller
+        // changed m (a filter's correction is kept, not undone).
+        let n2 = m.norm2();
+        let free_running = matches!(self.anchor, Some(a) if a.last == m);
+        let anchor = match self.anchor {
+            Some(a) if free_running => a,
+            _ => Anchor {
+                last: m,
+                casimir: n2,
+                half_inv: if n2 > T::ZERO {
+                    c::<T>(0.5) / n2
+                } else {
+                    T::ZERO
+                },
+            },
+        };
+        let fix = (anchor.casimir - n2) * anchor.half_inv + T::ONE;
+        let System { t, k, s1 } = self.system(m, free_running)?;
+        let (mm, a) = (k.mm, k.a);
+        // L^T = M^2 + J^2 + s1 M + s2 I with M = hat(mm), M^2 = mm mm^T - |mm|^2 I
+        let d = (sq(s1) - k.big_a) * c::<T>(0.5) - k.sum_a;
+        let (xy, xz, yz) = (mm.x * mm.y, mm.x * mm.z, mm.y * mm.z);
+        let (sx, sy, sz) = (s1 * mm.x, s1 * mm.y, s1 * mm.z);
+        let lt = Mat3::from_cols(
+            Vec3::new(a.x + t.j2.x + d, xy + sz, xz - sy),
+            Vec3::new(xy - sz, a.y + t.j2.y + d, yz + sx),
+            Vec3::new(xz + sy, yz - sx, a.z + t.j2.z + d),
+        );
         // L^T y = m by Cramer's rule: the rows of adj(L^T) are cross products of its columns
         let r0 = lt.y_axis.cross(lt.z_axis);
         let r1 = lt.z_axis.cross(lt.x_axis);
@@ -235,30 +281,9 @@ impl<T: Real> Mv<T> {
             return Err(StepError::Degenerate);
         }
         let inv_det = T::ONE / det;
-        let y = Vec3::new(r0.dot(m), r1.dot(m), r2.dot(m)).scale(inv_det);
+        let y = Vec3::new(r0.dot(m), r1.dot(m), r2.dot(m)).scale(inv_det * fix);
         let diag = t.j.scale(s1).add(t.jj);
         let next = diag.mul_elem(y).add(t.j.mul_elem(mm.cross(y)));
-        // X is orthogonal only to round-off, and that round-off is correlated along the
-        // orbit, so |m|^2 would drift linearly (7.6e-12 in f64, 2e-3 in f32 after 10^6 steps
-        // on the talk's case). Pull |m_next|^2 back to the trajectory's value, to first order
-        // (exact to O(eps^2)), without a division or a square root.
-        let anchor = match self.anchor {
-            Some(a) if a.last == m => a,
-            _ => {
-                let casimir = m.norm2();
-                let half_inv = if casimir > T::ZERO {
-                    c::<T>(0.5) / casimir
-                } else {
-                    T::ZERO
-                };
-                Anchor {
-                    last: m,
-                    casimir,
-                    half_inv,
-                }
-            }
-        };
-        let next = next.scale((anchor.casimir - next.norm2()) * anchor.half_inv + T::ONE);
         if !next.is_finite() {
             return Err(StepError::Overflow);
         }
@@ -266,7 +291,7 @@ impl<T: Real> Mv<T> {
             // X^T = (diag + J M) L^-T, and (L^T)^-1 has the rows r_i / det
             let linv_t = Mat3::from_cols(r0, r1, r2).transpose().scale(inv_det);
             let a = Mat3::diagonal(diag).add(&Mat3::hat(mm).diag_mul(t.j));
-            Some(a.mul_mat(&linv_t))
+            Some((a.mul_mat(&linv_t), fix))
         } else {
             None
         };
@@ -275,19 +300,38 @@ impl<T: Real> Mv<T> {
             last: next,
             ..anchor
         });
-        Ok((next, xt))
+        Ok(Advanced {
+            next,
+            rotation: xt,
+        })
     }
 }
 
+/// `A`, `B` of the cubic for one momentum, with the pieces `L^T` reuses.
+struct Coefficients<T> {
+    big_a: T,
+    big_b: T,
+    /// `h m / kappa`.
+    mm: Vec3<T>,
+    /// `mm_i^2`.
+    a: Vec3<T>,
+    /// `|mm|^2`.
+    sum_a: T,
+}
+
 impl<T: Real> Track<T> {
-    /// `A`, `B` of the cubic and the scaled `h m`.
     #[inline]
-    fn coefficients(&self, m: Vec3<T>) -> (T, T, Vec3<T>) {
+    fn coefficients(&self, m: Vec3<T>) -> Coefficients<T> {
         let mm = m.scale(self.hn);
         let a = mm.mul_elem(mm);
-        let big_a = self.sum_j2 - (a.x + a.y + a.z);
-        let big_b = self.pair_j2 - a.dot(self.j2);
-        (big_a, big_b, mm)
+        let sum_a = a.x + a.y + a.z;
+        Coefficients {
+            big_a: self.sum_j2 - sum_a,
+            big_b: self.pair_j2 - a.dot(self.j2),
+            mm,
+            a,
+            sum_a,
+        }
     }
 }
 
@@ -441,7 +485,7 @@ fn bisect<T: Real>(d: &[T; 5], mut lo: T, mut hi: T) -> T {
 impl<T: Real> Integrator<T> for Mv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let v = checked_momentum(m)?;
-        let (next, _) = self.advance(v, false)?;
+        let next = self.advance(v, false)?.next;
         *m = next.to_array();
         Ok(())
     }
@@ -449,15 +493,27 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
         let saved = (self.track, self.anchor);
-        let (next, xt) = self.advance(v, true)?;
-        let x = match xt {
-            Some(xt) => complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
+        let (x, fix) = match self.advance(v, true)?.rotation {
+            Some((xt, fix)) => (
+                complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
+                fix,
+            ),
             None => return Err(StepError::Degenerate),
         };
-        let (q_next, ok) = q.mul(Quat::from_mat3(&x)).normalize();
-        if !ok {
+        // One Newton–Schulz step X (3I - X^T X) / 2 takes X to the nearest rotation to
+        // O(eps^2); momentum and attitude then move by the same rotation, so R(q) m keeps to
+        // round-off (with X as solved, its O(eps) symmetric part moves m but not q)
+        let xtx = x.transpose().mul_mat(&x);
+        let three = Mat3::identity().scale(c::<T>(3.0));
+        let x = x.mul_mat(&three.sub(&xtx)).scale(c::<T>(0.5));
+        let next = x.transpose_mul_vec(v.scale(fix));
+        let q_next = compose_attitude(q, Quat::from_mat3(&x));
+        if !q_next.is_finite() || !next.is_finite() {
             (self.track, self.anchor) = saved;
             return Err(StepError::Overflow);
+        }
+        if let Some(a) = self.anchor.as_mut() {
+            a.last = next;
         }
         s.m = next.to_array();
         s.q = q_next.to_array();

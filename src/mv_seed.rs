@@ -5,7 +5,7 @@
 use crate::body::Body;
 use crate::cubic::{complex_sqrt, solve_cubic, CubicRoots};
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, Integrator, State};
+use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
 
@@ -250,8 +250,8 @@ impl<T: Real> Integrator<T> for SeedMv<T> {
         let (v, q) = checked_state(s)?;
         let x = self.solve(v)?;
         let next = x.transpose_mul_vec(v);
-        let (q_next, ok) = q.mul(Quat::from_mat3(&x)).normalize();
-        if !next.is_finite() || !ok {
+        let q_next = compose_attitude(q, Quat::from_mat3(&x));
+        if !next.is_finite() || !q_next.is_finite() {
             return Err(StepError::Overflow);
         }
         s.m = next.to_array();

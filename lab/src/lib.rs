@@ -3,7 +3,9 @@
 //! Independent reference solvers (the general-N Cardoso–Leite DMV solver), the method
 //! registry used by the CLI, and the experiments behind the README's tables.
 
+pub mod count;
 pub mod demo;
+pub mod flops;
 pub mod general;
 pub mod methods;
 pub mod propagate;

@@ -47,6 +47,12 @@ enum Command {
     Methods,
     /// The talk's case with every method: errors against the reference and invariant drift.
     Demo,
+    /// Counted flops per step of every method (the counting `Real`).
+    Flops {
+        /// Step size.
+        #[arg(long, default_value_t = 0.1)]
+        h: f64,
+    },
 }
 
 fn main() -> ExitCode {
@@ -103,6 +109,10 @@ fn main() -> ExitCode {
             for m in METHODS {
                 println!("{m:<12} {}", describe(m));
             }
+            ExitCode::SUCCESS
+        }
+        Command::Flops { h } => {
+            rigid3_lab::flops::print_table(h);
             ExitCode::SUCCESS
         }
         Command::Demo => {

@@ -1,15 +1,16 @@
 //! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
 
-use rigid3::{Body, Integrator, Real, SeedMv, State, StepError};
+use rigid3::{Body, Integrator, Mv, Real, SeedMv, State, StepError};
 
 use crate::general::GeneralDmv;
 
 /// The method names the CLI accepts, in the order tables list them.
-pub const METHODS: &[&str] = &["seed-mv", "general"];
+pub const METHODS: &[&str] = &["mv", "seed-mv", "general"];
 
 /// One-line description of a method, for tables and `--help`.
 pub fn describe(name: &str) -> &'static str {
     match name {
+        "mv" => "closed-form explicit DMV (one 3x3 solve, no sqrt/trig), order 2",
         "seed-mv" => "talk's explicit DMV (cubic + eigenvectors), order 2",
         "general" => "DMV by the general-N Cardoso–Leite solver (lab oracle, f64 only)",
         _ => "unknown",
@@ -19,6 +20,7 @@ pub fn describe(name: &str) -> &'static str {
 /// A boxed integrator for `name`, or `None` for an unknown name (or `general` in f32).
 pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dyn Integrator<T>>> {
     match name {
+        "mv" => Some(Box::new(Mv::new(body, h))),
         "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
         "general" => {
             // the oracle is f64-only; wrap through f64

@@ -1,0 +1,111 @@
+//! Counted flops per step of every method (with the counting `Real`): the cost axis of the
+//! work-precision tables, independent of the machine.
+
+use crate::count::{count, Counted, Counts};
+use crate::methods::{make, METHODS};
+use crate::scenes::{TALK_J, TALK_M0};
+use rigid3::{Body, State};
+
+/// Counts of one method: the first step (set-up included) and the average steady step.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct StepCost {
+    /// Method name.
+    pub method: &'static str,
+    /// The first momentum step, set-up included.
+    pub first: Counts,
+    /// Average momentum step after the first, over `STEPS` steps (rounded up).
+    pub momentum: Counts,
+    /// Average step with attitude.
+    pub state: Counts,
+}
+
+/// Steps averaged.
+pub const STEPS: u64 = 100;
+
+fn per_step(c: Counts, n: u64) -> Counts {
+    let d = |x: u64| x.div_ceil(n);
+    Counts {
+        add: d(c.add),
+        sub: d(c.sub),
+        mul: d(c.mul),
+        div: d(c.div),
+        sqrt: d(c.sqrt),
+        trans: d(c.trans),
+    }
+}
+
+/// The cost of `method` on the talk's case at step `h`, or `None` if it is not countable
+/// (the lab's f64-only oracle).
+pub fn step_cost(method: &'static str, h: f64) -> Option<StepCost> {
+    if method == "general" {
+        return None;
+    }
+    let body = Body::<Counted>::from_mass_matrix(TALK_J.map(Counted)).ok()?;
+    let mut a = make(method, body, Counted(h))?;
+    let mut m = TALK_M0.map(Counted);
+    let (_, first) = count(|| a.step(&mut m));
+    let (_, many) = count(|| {
+        for _ in 0..STEPS {
+            let _ = a.step(&mut m);
+        }
+    });
+    let mut b = make(method, body, Counted(h))?;
+    let mut s = State::new(TALK_M0.map(Counted), [1.0, 0.0, 0.0, 0.0].map(Counted));
+    let _ = b.step_state(&mut s);
+    let (_, states) = count(|| {
+        for _ in 0..STEPS {
+            let _ = b.step_state(&mut s);
+        }
+    });
+    Some(StepCost {
+        method,
+        first,
+        momentum: per_step(many, STEPS),
+        state: per_step(states, STEPS),
+    })
+}
+
+/// Costs of every countable method at step `h`.
+pub fn all(h: f64) -> Vec<StepCost> {
+    METHODS.iter().filter_map(|m| step_cost(m, h)).collect()
+}
+
+/// Prints the flop table.
+pub fn print_table(h: f64) {
+    println!(
+        "Counted operations per step (talk's case, h = {h}; counting Real, {STEPS}-step average)"
+    );
+    println!(
+        "{:<10} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>12}",
+        "method", "flops/step", "div", "sqrt", "trig", "with q", "sqrt", "trig", "first step"
+    );
+    for c in all(h) {
+        println!(
+            "{:<10} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>5} +{}s+{}t",
+            c.method,
+            c.momentum.flops(),
+            c.momentum.div,
+            c.momentum.sqrt,
+            c.momentum.trans,
+            c.state.flops(),
+            c.state.sqrt,
+            c.state.trans,
+            c.first.flops(),
+            c.first.sqrt,
+            c.first.trans
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mv_steady_step_has_no_sqrt_and_no_trig() {
+        let c = step_cost("mv", 0.1).unwrap();
+        assert_eq!((c.momentum.sqrt, c.momentum.trans), (0, 0), "{c:?}");
+        // the exact solve at the first step is where the cubic's sqrt/cbrt/acos go
+        assert!(c.first.sqrt > 0);
+    }
+}
