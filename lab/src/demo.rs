@@ -5,7 +5,6 @@ use crate::methods::{make, METHODS};
 use crate::propagate::propagate;
 use crate::scenes::{TALK_J, TALK_M0, TALK_M10, TALK_M100};
 use rigid3::{Body, State};
-use std::time::Instant;
 
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
@@ -21,8 +20,8 @@ pub struct Row {
     pub err100: f64,
     /// Max relative drift of |m|^2, E and R(q) m over `drift_steps` steps with attitude.
     pub drift: [f64; 3],
-    /// Host nanoseconds per momentum step.
-    pub ns_per_step: f64,
+    /// Counted flops per steady momentum step (`None` for the f64-only oracle).
+    pub flops: Option<u64>,
 }
 
 /// Steps of the drift run.
@@ -37,9 +36,7 @@ pub fn rows(h: f64) -> Vec<Row> {
         .iter()
         .filter_map(|&name| {
             let mut a = make(name, body, h)?;
-            let start = Instant::now();
             let r10 = propagate(name, a.as_mut(), &body, s0, n10, false);
-            let ns = start.elapsed().as_nanos() as f64 / n10 as f64;
             let mut a = make(name, body, h)?;
             let r100 = propagate(name, a.as_mut(), &body, s0, 10 * n10, false);
             let mut a = make(name, body, h)?;
@@ -53,7 +50,7 @@ pub fn rows(h: f64) -> Vec<Row> {
                     rd.energy_drift,
                     rd.spatial_momentum_drift.unwrap_or(f64::NAN),
                 ],
-                ns_per_step: ns,
+                flops: crate::flops::step_cost(name, h).map(|c| c.momentum.flops()),
             })
         })
         .collect()
@@ -69,12 +66,18 @@ pub fn print_demo() {
     );
     println!(
         "{:<10} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10}",
-        "method", "err t=10", "err t=100", "|m|^2 drift", "E drift", "R(q)m drift", "ns/step"
+        "method", "err t=10", "err t=100", "|m|^2 drift", "E drift", "R(q)m drift", "flops/step"
     );
     for r in rows(h) {
         println!(
-            "{:<10} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10.0}",
-            r.method, r.err10, r.err100, r.drift[0], r.drift[1], r.drift[2], r.ns_per_step
+            "{:<10} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10}",
+            r.method,
+            r.err10,
+            r.err100,
+            r.drift[0],
+            r.drift[1],
+            r.drift[2],
+            r.flops.map(|f| f.to_string()).unwrap_or_else(|| "-".into())
         );
     }
 }

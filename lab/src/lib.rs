@@ -3,6 +3,7 @@
 //! Independent reference solvers (the general-N Cardoso–Leite DMV solver), the method
 //! registry used by the CLI, and the experiments behind the README's tables.
 
+pub mod bench_table;
 pub mod count;
 pub mod demo;
 pub mod flops;

@@ -47,6 +47,12 @@ enum Command {
     Methods,
     /// The talk's case with every method: errors against the reference and invariant drift.
     Demo,
+    /// Table of host time per step from the last `cargo bench --bench steps`.
+    BenchTable {
+        /// Criterion's output folder.
+        #[arg(long, default_value = "target/criterion")]
+        dir: std::path::PathBuf,
+    },
     /// Counted flops per step of every method (the counting `Real`).
     Flops {
         /// Step size.
@@ -110,6 +116,17 @@ fn main() -> ExitCode {
                 println!("{m:<12} {}", describe(m));
             }
             ExitCode::SUCCESS
+        }
+        Command::BenchTable { dir } => {
+            if rigid3_lab::bench_table::print(&dir) {
+                ExitCode::SUCCESS
+            } else {
+                eprintln!(
+                    "no criterion results under {}: run `cargo bench --bench steps`",
+                    dir.display()
+                );
+                ExitCode::FAILURE
+            }
         }
         Command::Flops { h } => {
             rigid3_lab::flops::print_table(h);
