@@ -19,6 +19,10 @@
 //! |---|---|---|---|
 //! | [`Mv`] | closed-form explicit DMV: one 3x3 solve, no sqrt, no trig (flagship) | 2 | `|m|^2`, `E`, `R(q) m` |
 //! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors), as published | 2 | `|m|^2`, `E`, `R(q) m` |
+//! | [`Splitting`] | McLachlan's symmetric splitting, three axis rotations | 2 | `|m|^2`, `R(q) m` |
+//! | [`Splitting2`] | McLachlan's splitting with the Casimir split off, two rotations | 2 | `|m|^2`, `R(q) m` |
+//! | [`Midpoint`] | implicit midpoint, Newton or fixed point | 2 | `|m|^2`, `E` |
+//! | [`Rk4`] | classical Runge–Kutta | 4 | none |
 //!
 //! Every method implements [`Integrator`]: `step` advances momentum only, `step_state`
 //! momentum and attitude. A step that cannot be taken returns a [`StepError`] and leaves
@@ -49,13 +53,19 @@ pub mod cubic;
 mod error;
 mod integrator;
 mod linalg;
+mod midpoint;
 mod mv;
 mod mv_seed;
 mod real;
+mod rk4;
+mod splitting;
 
 pub use body::Body;
 pub use error::{BodyError, StepError};
 pub use integrator::{Integrator, State};
+pub use midpoint::{Midpoint, Solver};
 pub use mv::Mv;
 pub use mv_seed::SeedMv;
 pub use real::Real;
+pub use rk4::Rk4;
+pub use splitting::{Splitting, Splitting2};

@@ -1,17 +1,34 @@
 //! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
 
-use rigid3::{Body, Integrator, Mv, Real, SeedMv, State, StepError};
+use rigid3::{
+    Body, Integrator, Midpoint, Mv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
+    StepError,
+};
 
 use crate::general::GeneralDmv;
 
 /// The method names the CLI accepts, in the order tables list them.
-pub const METHODS: &[&str] = &["mv", "seed-mv", "general"];
+pub const METHODS: &[&str] = &[
+    "mv",
+    "seed-mv",
+    "splitting",
+    "splitting2",
+    "midpoint",
+    "midpoint-fp",
+    "rk4",
+    "general",
+];
 
 /// One-line description of a method, for tables and `--help`.
 pub fn describe(name: &str) -> &'static str {
     match name {
         "mv" => "closed-form explicit DMV (one 3x3 solve, no sqrt/trig), order 2",
         "seed-mv" => "talk's explicit DMV (cubic + eigenvectors), order 2",
+        "splitting" => "McLachlan's splitting, 3 axis rotations (5 a step), order 2",
+        "splitting2" => "McLachlan's splitting with the Casimir split off, 2 rotations, order 2",
+        "midpoint" => "implicit midpoint rule, Newton, order 2",
+        "midpoint-fp" => "implicit midpoint rule, fixed-point iteration, order 2",
+        "rk4" => "classical Runge-Kutta, order 4",
         "general" => "DMV by the general-N Cardoso–Leite solver (lab oracle, f64 only)",
         _ => "unknown",
     }
@@ -22,6 +39,11 @@ pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dy
     match name {
         "mv" => Some(Box::new(Mv::new(body, h))),
         "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
+        "splitting" => Some(Box::new(Splitting::new(body, h))),
+        "splitting2" => Some(Box::new(Splitting2::new(body, h))),
+        "midpoint" => Some(Box::new(Midpoint::new(body, h))),
+        "midpoint-fp" => Some(Box::new(Midpoint::with_solver(body, h, Solver::FixedPoint))),
+        "rk4" => Some(Box::new(Rk4::new(body, h))),
         "general" => {
             // the oracle is f64-only; wrap through f64
             Some(Box::new(Widened(GeneralDmv::new(

@@ -1,0 +1,285 @@
+//! McLachlan's splittings: compositions of exact rotations about the principal axes
+//! (R. I. McLachlan, "Explicit Lie–Poisson integration and the Euler equations",
+//! Phys. Rev. Lett. 71 (1993) 3043; MATH.md §7).
+//!
+//! The energy `E = sum E_i`, `E_i = m_i^2 / (2 I_i)`, splits into integrable pieces. The flow
+//! of `E_i` keeps `m_i` and so `w = m_i / I_i`, and is the rotation `m(t) = R_i(-w t) m`
+//! about the body axis `e_i`, with the attitude `q(t) = q (x) (cos(w t / 2), sin(w t / 2) e_i)`;
+//! `R(q) m` is unchanged by every piece, so the composition conserves it to round-off, and
+//! `|m|^2` too. The energy is not conserved (it oscillates at `O(h^2)`).
+
+use crate::body::Body;
+use crate::error::StepError;
+use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::linalg::{Quat, Vec3};
+use crate::real::{c, Real};
+
+/// Exact flow of `E_axis` for time `t` on the momentum: rotation of `m` about `e_axis` by
+/// `-t m_axis / I_axis`. One `sin` and one `cos`.
+#[inline]
+fn rotate_momentum<T: Real>(m: Vec3<T>, axis: usize, w_per_m: T, t: T) -> Vec3<T> {
+    match axis {
+        0 => {
+            let a = t * m.x * w_per_m;
+            let (s, cs) = (a.sin(), a.cos());
+            Vec3::new(m.x, cs * m.y + s * m.z, cs * m.z - s * m.y)
+        }
+        1 => {
+            let a = t * m.y * w_per_m;
+            let (s, cs) = (a.sin(), a.cos());
+            Vec3::new(cs * m.x - s * m.z, m.y, cs * m.z + s * m.x)
+        }
+        _ => {
+            let a = t * m.z * w_per_m;
+            let (s, cs) = (a.sin(), a.cos());
+            Vec3::new(cs * m.x + s * m.y, cs * m.y - s * m.x, m.z)
+        }
+    }
+}
+
+/// Exact flow of `E_axis` for time `t` on momentum and attitude: the half angle's `sin` and
+/// `cos` give the quaternion, and the double-angle formulas the rotation of `m`.
+#[inline]
+fn rotate_state<T: Real>(
+    m: Vec3<T>,
+    q: Quat<T>,
+    axis: usize,
+    w_per_m: T,
+    t: T,
+) -> (Vec3<T>, Quat<T>) {
+    let mi = match axis {
+        0 => m.x,
+        1 => m.y,
+        _ => m.z,
+    };
+    let half = t * mi * w_per_m * c::<T>(0.5);
+    let (sh, ch) = (half.sin(), half.cos());
+    let s = c::<T>(2.0) * sh * ch;
+    let cs = ch * ch - sh * sh;
+    let z = T::ZERO;
+    let (m, dq) = match axis {
+        0 => (
+            Vec3::new(m.x, cs * m.y + s * m.z, cs * m.z - s * m.y),
+            Quat {
+                w: ch,
+                x: sh,
+                y: z,
+                z,
+            },
+        ),
+        1 => (
+            Vec3::new(cs * m.x - s * m.z, m.y, cs * m.z + s * m.x),
+            Quat {
+                w: ch,
+                x: z,
+                y: sh,
+                z,
+            },
+        ),
+        _ => (
+            Vec3::new(cs * m.x + s * m.y, cs * m.y - s * m.x, m.z),
+            Quat {
+                w: ch,
+                x: z,
+                y: z,
+                z: sh,
+            },
+        ),
+    };
+    (m, compose_attitude(q, dq))
+}
+
+fn finish<T: Real>(m: Vec3<T>) -> Result<[T; 3], StepError> {
+    if m.is_finite() {
+        Ok(m.to_array())
+    } else {
+        Err(StepError::Overflow)
+    }
+}
+
+/// McLachlan's symmetric splitting with three axis rotations (order 2):
+/// `phi_1(h/2) phi_2(h/2) phi_3(h) phi_2(h/2) phi_1(h/2)`, five rotations a step (five `sin`
+/// and five `cos`); [`Splitting::step_many`] merges the half steps of consecutive steps to four
+/// rotations a step. Conserves `|m|^2` and `R(q) m` to round-off; the energy error is `O(h^2)`
+/// and bounded. Error at `t = 10` on the talk's case: about `0.25 h^2`.
+///
+/// At any step size the result is finite (rotations only); past `h |Omega| ~ 1` it is
+/// inaccurate, with no warning: there is no stability limit to report.
+#[derive(Clone, Copy, Debug)]
+pub struct Splitting<T> {
+    inv_i: Vec3<T>,
+    h: T,
+}
+
+impl<T: Real> Splitting<T> {
+    /// A splitting integrator for `body` with step `h`.
+    pub fn new(body: Body<T>, h: T) -> Self {
+        let i = body.inertia();
+        Self {
+            inv_i: Vec3::new(T::ONE / i[0], T::ONE / i[1], T::ONE / i[2]),
+            h,
+        }
+    }
+
+    /// Changes the step size.
+    pub fn set_step(&mut self, h: T) {
+        self.h = h;
+    }
+
+    /// `n` steps at once with the half steps of consecutive steps merged:
+    /// `phi_1(h/2) [phi_2(h/2) phi_3(h) phi_2(h/2) phi_1(h)]^(n-1) ... phi_1(h/2)`, four
+    /// rotations a step. Same result as `n` calls of `step` up to round-off.
+    pub fn step_many(&mut self, m: &mut [T; 3], n: usize) -> Result<(), StepError> {
+        if !self.h.is_finite() {
+            return Err(StepError::NonFinite);
+        }
+        let mut v = checked_momentum(m)?;
+        if n == 0 {
+            return Ok(());
+        }
+        let (h, hh, w) = (self.h, self.h * c::<T>(0.5), self.inv_i);
+        v = rotate_momentum(v, 0, w.x, hh);
+        let mut k = 0;
+        while k < n {
+            v = rotate_momentum(v, 1, w.y, hh);
+            v = rotate_momentum(v, 2, w.z, h);
+            v = rotate_momentum(v, 1, w.y, hh);
+            v = rotate_momentum(v, 0, w.x, if k + 1 == n { hh } else { h });
+            k += 1;
+        }
+        *m = finish(v)?;
+        Ok(())
+    }
+}
+
+impl<T: Real> Integrator<T> for Splitting<T> {
+    fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
+        self.step_many(m, 1)
+    }
+
+    fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        if !self.h.is_finite() {
+            return Err(StepError::NonFinite);
+        }
+        let (v, q) = checked_state(s)?;
+        let (h, hh, w) = (self.h, self.h * c::<T>(0.5), self.inv_i);
+        let (v, q) = rotate_state(v, q, 0, w.x, hh);
+        let (v, q) = rotate_state(v, q, 1, w.y, hh);
+        let (v, q) = rotate_state(v, q, 2, w.z, h);
+        let (v, q) = rotate_state(v, q, 1, w.y, hh);
+        let (v, q) = rotate_state(v, q, 0, w.x, hh);
+        if !q.is_finite() {
+            return Err(StepError::Overflow);
+        }
+        s.m = finish(v)?;
+        s.q = q.to_array();
+        Ok(())
+    }
+
+    fn step_size(&self) -> T {
+        self.h
+    }
+}
+
+/// McLachlan's splitting with the Casimir split off (order 2): `E = c |m|^2 / 2 + E_a + E_b`
+/// with `c = 1 / I_k` for one axis `k`, so only the two other axes rotate, with frequencies
+/// `m_i (1/I_i - 1/I_k)`: `phi_a(h/2) phi_b(h) phi_a(h/2)`, three rotations a step. The
+/// Casimir's flow leaves `m` alone and turns the attitude about the spatial momentum by
+/// `c |m| h`; it commutes with the rest, so it is applied once per step. The axis split off is
+/// the one of the middle moment (`c = 1 / I_mid` leaves the two smallest frequencies
+/// `1/I_i - c`, of opposite signs), with the half steps on the axis of the smallest moment:
+/// on the talk's case the error at `t = 10` is about `0.0027 h^2`, a hundred times below
+/// [`Splitting`] (MATH.md §7; the other five arrangements give `0.0043` to `0.032`).
+#[derive(Clone, Copy, Debug)]
+pub struct Splitting2<T> {
+    /// `1/I_i - 1/I_k` for the two rotating axes, in the order (a, b, k).
+    w: Vec3<T>,
+    axes: [usize; 3],
+    c: T,
+    h: T,
+}
+
+impl<T: Real> Splitting2<T> {
+    /// A Casimir-split integrator for `body` with step `h`.
+    pub fn new(body: Body<T>, h: T) -> Self {
+        let [i1, i2, i3] = body.inertia();
+        // a: smallest moment, b: largest, k (split off): the middle one
+        let (a, b) = if i1 <= i2 && i1 <= i3 {
+            (0, if i2 >= i3 { 1 } else { 2 })
+        } else if i2 <= i3 {
+            (1, if i1 >= i3 { 0 } else { 2 })
+        } else {
+            (2, if i1 >= i2 { 0 } else { 1 })
+        };
+        let k = 3 - a - b;
+        let inertia = [i1, i2, i3];
+        let ck = T::ONE / inertia[k];
+        Self {
+            w: Vec3::new(T::ONE / inertia[a] - ck, T::ONE / inertia[b] - ck, T::ZERO),
+            axes: [a, b, k],
+            c: ck,
+            h,
+        }
+    }
+
+    /// Changes the step size.
+    pub fn set_step(&mut self, h: T) {
+        self.h = h;
+    }
+}
+
+impl<T: Real> Integrator<T> for Splitting2<T> {
+    fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
+        if !self.h.is_finite() {
+            return Err(StepError::NonFinite);
+        }
+        let v = checked_momentum(m)?;
+        let (h, hh) = (self.h, self.h * c::<T>(0.5));
+        let [a, b, _] = self.axes;
+        let v = rotate_momentum(v, a, self.w.x, hh);
+        let v = rotate_momentum(v, b, self.w.y, h);
+        let v = rotate_momentum(v, a, self.w.x, hh);
+        *m = finish(v)?;
+        Ok(())
+    }
+
+    fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        if !self.h.is_finite() {
+            return Err(StepError::NonFinite);
+        }
+        let (v, q) = checked_state(s)?;
+        let (h, hh) = (self.h, self.h * c::<T>(0.5));
+        let [a, b, _] = self.axes;
+        let (v, q) = rotate_state(v, q, a, self.w.x, hh);
+        let (v, q) = rotate_state(v, q, b, self.w.y, h);
+        let (v, q) = rotate_state(v, q, a, self.w.x, hh);
+        // the Casimir: q (x) exp(c h m / 2), a rotation by c h |m| about m (body frame)
+        let n2 = v.norm2();
+        let q = if n2 > T::ZERO {
+            let n = n2.sqrt();
+            let half = self.c * h * n * c::<T>(0.5);
+            let k = half.sin() / n;
+            compose_attitude(
+                q,
+                Quat {
+                    w: half.cos(),
+                    x: v.x * k,
+                    y: v.y * k,
+                    z: v.z * k,
+                },
+            )
+        } else {
+            q
+        };
+        if !q.is_finite() {
+            return Err(StepError::Overflow);
+        }
+        s.m = finish(v)?;
+        s.q = q.to_array();
+        Ok(())
+    }
+
+    fn step_size(&self) -> T {
+        self.h
+    }
+}

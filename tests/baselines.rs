@@ -1,0 +1,328 @@
+//! The baselines of the talk (McLachlan's splittings, implicit midpoint, RK4): orders and
+//! error constants on the talk's case against the reference solution, what each conserves,
+//! and how each behaves where it fails.
+
+mod common;
+
+use common::*;
+use rigid3::{
+    Body, Integrator, Midpoint, Mv, Rk4, SeedMv, Solver, Splitting, Splitting2, State, StepError,
+};
+
+fn talk_body() -> Body<f64> {
+    Body::from_mass_matrix(TALK_J).unwrap()
+}
+
+fn error_at_10(make: &dyn Fn(f64) -> Box<dyn Integrator<f64>>, h: f64) -> f64 {
+    let mut a = make(h);
+    let mut m = TALK_M0;
+    for _ in 0..(10.0 / h).round() as usize {
+        a.step(&mut m).unwrap();
+    }
+    dist(m, TALK_M10)
+}
+
+/// Observed order over `hs` and the error constant `err / h^p` at the smallest step.
+fn order_and_constant(
+    make: &dyn Fn(f64) -> Box<dyn Integrator<f64>>,
+    hs: &[f64],
+    p: i32,
+) -> (f64, f64) {
+    let errs: Vec<f64> = hs.iter().map(|&h| error_at_10(make, h)).collect();
+    let last = hs.len() - 1;
+    (observed_order(hs, &errs), errs[last] / hs[last].powi(p))
+}
+
+const SECOND_ORDER_STEPS: [f64; 4] = [0.125, 0.0625, 0.03125, 0.015625];
+
+#[test]
+fn splitting_is_second_order_with_constant_0_25() {
+    let b = talk_body();
+    let (p, k) = order_and_constant(&|h| Box::new(Splitting::new(b, h)), &SECOND_ORDER_STEPS, 2);
+    assert!(
+        (p - 2.0).abs() <= 0.1 && (k - 0.25).abs() <= 0.025,
+        "order {p}, constant {k}"
+    );
+}
+
+#[test]
+fn casimir_splitting_is_second_order_with_constant_0_0027() {
+    let b = talk_body();
+    let (p, k) = order_and_constant(&|h| Box::new(Splitting2::new(b, h)), &SECOND_ORDER_STEPS, 2);
+    assert!(
+        (p - 2.0).abs() <= 0.1 && (k - 0.0027).abs() <= 0.0003,
+        "order {p}, constant {k}"
+    );
+}
+
+#[test]
+fn midpoint_is_second_order_with_constant_0_0047_by_either_solver() {
+    let b = talk_body();
+    for solver in [Solver::Newton, Solver::FixedPoint] {
+        let make =
+            |h| -> Box<dyn Integrator<f64>> { Box::new(Midpoint::with_solver(b, h, solver)) };
+        let (p, k) = order_and_constant(&make, &SECOND_ORDER_STEPS, 2);
+        assert!(
+            (p - 2.0).abs() <= 0.1 && (k - 0.0047).abs() <= 0.0005,
+            "{solver:?}: order {p}, constant {k}"
+        );
+    }
+}
+
+#[test]
+fn rk4_is_fourth_order() {
+    let b = talk_body();
+    let (p, _) = order_and_constant(
+        &|h| Box::new(Rk4::new(b, h)),
+        &[0.25, 0.125, 0.0625, 0.03125],
+        4,
+    );
+    assert!((p - 4.0).abs() <= 0.1, "order {p}");
+}
+
+fn drift(a: &mut dyn Integrator<f64>, body: Body<f64>, steps: usize) -> [f64; 3] {
+    let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    let (c0, e0, p0) = (body.casimir(&s.m), body.energy(&s.m), s.spatial_momentum());
+    let mut d = [0.0f64; 3];
+    for _ in 0..steps {
+        a.step_state(&mut s).unwrap();
+        d[0] = d[0].max((body.casimir(&s.m) - c0).abs() / c0);
+        d[1] = d[1].max((body.energy(&s.m) - e0).abs() / e0);
+        d[2] = d[2].max(dist(s.spatial_momentum(), p0) / norm(p0));
+    }
+    d
+}
+
+#[test]
+fn splittings_conserve_casimir_and_spatial_momentum_not_energy() {
+    let b = talk_body();
+    for (name, mut a) in [
+        (
+            "splitting",
+            Box::new(Splitting::new(b, 0.1)) as Box<dyn Integrator<f64>>,
+        ),
+        ("splitting2", Box::new(Splitting2::new(b, 0.1))),
+    ] {
+        let d = drift(a.as_mut(), b, 10_000);
+        assert!(d[0] <= 1e-13 && d[2] <= 1e-13, "{name}: {d:?}");
+        // the energy error is O(h^2) and bounded, not round-off
+        assert!(d[1] > 1e-7 && d[1] < 1e-2, "{name}: energy {d:?}");
+    }
+}
+
+#[test]
+fn midpoint_conserves_the_quadratic_invariants() {
+    let b = talk_body();
+    let d = drift(&mut Midpoint::new(b, 0.1), b, 10_000);
+    assert!(d[0] <= 1e-13 && d[1] <= 1e-13, "{d:?}");
+    // R(q) m is cubic: conserved only to the order of the method
+    assert!(d[2] > 1e-8, "{d:?}");
+}
+
+#[test]
+fn rk4_conserves_nothing_exactly() {
+    let b = talk_body();
+    let d = drift(&mut Rk4::new(b, 0.1), b, 10_000);
+    assert!(d.iter().all(|&x| x > 1e-10 && x < 1e-4), "{d:?}");
+}
+
+#[test]
+fn merged_half_steps_equal_plain_steps() {
+    let b = talk_body();
+    let mut a = TALK_M0;
+    let mut s = Splitting::new(b, 0.1);
+    for _ in 0..1000 {
+        s.step(&mut a).unwrap();
+    }
+    let mut m = TALK_M0;
+    s.step_many(&mut m, 1000).unwrap();
+    assert!(dist(a, m) <= 1e-12, "{:e}", dist(a, m));
+}
+
+#[test]
+fn midpoint_reports_its_iterations_and_its_limit() {
+    let b = talk_body();
+    let mut newton = Midpoint::new(b, 0.1);
+    let mut fixed = Midpoint::with_solver(b, 0.1, Solver::FixedPoint);
+    let (mut m1, mut m2) = (TALK_M0, TALK_M0);
+    newton.step(&mut m1).unwrap();
+    fixed.step(&mut m2).unwrap();
+    assert!(
+        newton.last_iterations() <= 5,
+        "{}",
+        newton.last_iterations()
+    );
+    assert!(fixed.last_iterations() > newton.last_iterations());
+    assert!(dist(m1, m2) < 1e-15);
+    // past the fixed-point limit it refuses (measured on the talk's case with 200 iterations:
+    // the first step converges up to h = 8.75, a run to t = 100 up to h = 5.93; MATH.md §3
+    // quotes 7.26)
+    let mut m = TALK_M0;
+    let mut fixed = Midpoint::with_solver(b, 10.0, Solver::FixedPoint);
+    assert_eq!(fixed.step(&mut m), Err(StepError::NoConvergence));
+    assert_eq!(m, TALK_M0);
+    // Newton at huge steps: either refuses or returns a true midpoint solution
+    for h in [5.0, 10.0, 30.0, 1e3, 1e6] {
+        let mut m = TALK_M0;
+        match Midpoint::new(b, h).step(&mut m) {
+            Err(e) => {
+                assert_eq!(e, StepError::NoConvergence);
+                assert_eq!(m, TALK_M0);
+            }
+            Ok(()) => {
+                // residual of m1 - m0 - h f((m0 + m1)/2) and the invariants
+                let y = [
+                    (m[0] + TALK_M0[0]) / 2.0,
+                    (m[1] + TALK_M0[1]) / 2.0,
+                    (m[2] + TALK_M0[2]) / 2.0,
+                ];
+                let w = b.angular_velocity(&y);
+                let f = [
+                    y[1] * w[2] - y[2] * w[1],
+                    y[2] * w[0] - y[0] * w[2],
+                    y[0] * w[1] - y[1] * w[0],
+                ];
+                let r = [
+                    m[0] - TALK_M0[0] - h * f[0],
+                    m[1] - TALK_M0[1] - h * f[1],
+                    m[2] - TALK_M0[2] - h * f[2],
+                ];
+                assert!(
+                    norm(r) <= 1e-12 * h.max(1.0),
+                    "h {h}: residual {:e}",
+                    norm(r)
+                );
+                assert!((b.casimir(&m) - b.casimir(&TALK_M0)).abs() < 1e-12);
+            }
+        }
+    }
+}
+
+/// Every method on a grid of huge, tiny and non-finite steps and states: a finite result or
+/// an `Err` with the state untouched; never NaN, never a panic.
+#[test]
+fn no_method_returns_nan_or_panics_on_bad_input() {
+    let bodies = [
+        talk_body(),
+        Body::from_inertia([1.0, 1.0, 1.0]).unwrap(),
+        Body::from_inertia([1.0, 2.0, 3.0]).unwrap(),
+        Body::from_inertia([1e-200, 1e-200, 1e-200]).unwrap(),
+        Body::from_inertia([1e200, 2e200, 2.5e200]).unwrap(),
+    ];
+    let hs = [
+        0.0,
+        1e-300,
+        0.1,
+        10.0,
+        1e3,
+        1e10,
+        1e300,
+        -1e300,
+        f64::INFINITY,
+        f64::NAN,
+        f64::MIN_POSITIVE,
+    ];
+    let ms = [
+        TALK_M0,
+        [0.0; 3],
+        TALK_M0.map(|x| x * 1e-300),
+        TALK_M0.map(|x| x * 1e150),
+        TALK_M0.map(|x| x * 1e300),
+        [f64::NAN, 0.0, 1.0],
+        [f64::INFINITY, 0.0, 0.0],
+        [f64::MAX, f64::MAX, f64::MAX],
+    ];
+    let qs = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0; 4],
+        [f64::NAN, 0.0, 0.0, 0.0],
+        [1e3, 2e3, 0.0, 0.0],
+        [1e-200, 0.0, 0.0, 0.0],
+    ];
+    let mut tried = 0;
+    for b in bodies {
+        for &h in &hs {
+            let methods: Vec<(&str, Box<dyn Integrator<f64>>)> = vec![
+                ("mv", Box::new(Mv::new(b, h))),
+                ("seed-mv", Box::new(SeedMv::new(b, h))),
+                ("splitting", Box::new(Splitting::new(b, h))),
+                ("splitting2", Box::new(Splitting2::new(b, h))),
+                ("midpoint", Box::new(Midpoint::new(b, h))),
+                (
+                    "midpoint-fp",
+                    Box::new(Midpoint::with_solver(b, h, Solver::FixedPoint)),
+                ),
+                ("rk4", Box::new(Rk4::new(b, h))),
+            ];
+            for (name, mut a) in methods {
+                for &m0 in &ms {
+                    let mut m = m0;
+                    match a.step(&mut m) {
+                        Ok(()) => assert!(
+                            m.iter().all(|x| x.is_finite()),
+                            "{name} h {h:e} m {m0:?} -> {m:?}"
+                        ),
+                        Err(_) => assert!(
+                            m == m0 || m0.iter().any(|x| x.is_nan()),
+                            "{name}: state changed"
+                        ),
+                    }
+                    for &q0 in &qs {
+                        tried += 1;
+                        let mut s = State::new(m0, q0);
+                        let before = s;
+                        match a.step_state(&mut s) {
+                            Ok(()) => assert!(
+                                s.m.iter().chain(s.q.iter()).all(|x| x.is_finite()),
+                                "{name} h {h:e} m {m0:?} q {q0:?} -> {s:?}"
+                            ),
+                            Err(_) => assert!(
+                                s == before
+                                    || before.m.iter().chain(before.q.iter()).any(|x| x.is_nan()),
+                                "{name}: state changed on error"
+                            ),
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(tried > 10_000);
+}
+
+#[test]
+fn f32_orders() {
+    let b = Body::<f32>::from_mass_matrix(to_f32(TALK_J)).unwrap();
+    let run = |a: &mut dyn Integrator<f32>, h: f64| {
+        let mut m = to_f32(TALK_M0);
+        for _ in 0..(10.0 / h).round() as usize {
+            a.step(&mut m).unwrap();
+        }
+        dist(to_f64(m), TALK_M10)
+    };
+    let hs = [0.2, 0.1, 0.05];
+    let e: Vec<f64> = hs
+        .iter()
+        .map(|&h| run(&mut Splitting::new(b, h as f32), h))
+        .collect();
+    assert!((observed_order(&hs, &e) - 2.0).abs() < 0.1);
+    // its error constant is 100x smaller: measure above f32 round-off
+    let hs2 = [0.4, 0.2, 0.1];
+    let e: Vec<f64> = hs2
+        .iter()
+        .map(|&h| run(&mut Splitting2::new(b, h as f32), h))
+        .collect();
+    assert!((observed_order(&hs2, &e) - 2.0).abs() < 0.1, "{e:?}");
+    let e: Vec<f64> = hs
+        .iter()
+        .map(|&h| run(&mut Midpoint::new(b, h as f32), h))
+        .collect();
+    assert!((observed_order(&hs, &e) - 2.0).abs() < 0.1);
+    // RK4's error reaches f32 round-off (~1e-6) below h ~ 0.5: measure above it
+    let hs = [1.25, 1.0, 0.625];
+    let e: Vec<f64> = hs
+        .iter()
+        .map(|&h| run(&mut Rk4::new(b, h as f32), h))
+        .collect();
+    assert!((observed_order(&hs, &e) - 4.0).abs() < 0.2, "{e:?}");
+}
