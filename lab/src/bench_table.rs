@@ -16,16 +16,9 @@ pub fn median_ns(criterion_dir: &Path, group: &str, name: &str) -> Option<f64> {
 /// Prints the table for every group of the `steps` bench found under `criterion_dir`.
 pub fn print(criterion_dir: &Path) -> bool {
     let groups = ["momentum-f64", "momentum-f32", "state-f64", "state-f32"];
-    let names = [
-        "splitting",
-        "strang5",
-        "splitting2",
-        "mv",
-        "pre-mv4",
-        "seed-mv",
-        "midpoint",
-        "rk4",
-    ];
+    // the splitting first: it is the baseline of the ratios
+    let names = std::iter::once("splitting")
+        .chain(crate::methods::METHODS.iter().copied().filter(|&n| n != "splitting"));
     let mut any = false;
     println!(
         "Host time per step (criterion medians, one run; ratios to the splitting of the same run)"
@@ -37,7 +30,7 @@ pub fn print(criterion_dir: &Path) -> bool {
     for g in groups {
         let base = median_ns(criterion_dir, g, "splitting")
             .or_else(|| median_ns(criterion_dir, g, "strang5"));
-        for n in names {
+        for n in names.clone() {
             if let Some(t) = median_ns(criterion_dir, g, n) {
                 any = true;
                 let ratio = base
