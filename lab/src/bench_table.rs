@@ -17,8 +17,12 @@ pub fn median_ns(criterion_dir: &Path, group: &str, name: &str) -> Option<f64> {
 pub fn print(criterion_dir: &Path) -> bool {
     let groups = ["momentum-f64", "momentum-f32", "state-f64", "state-f32"];
     // the splitting first: it is the baseline of the ratios
-    let names = std::iter::once("splitting")
-        .chain(crate::methods::METHODS.iter().copied().filter(|&n| n != "splitting"));
+    let names = std::iter::once("splitting").chain(
+        crate::methods::METHODS
+            .iter()
+            .copied()
+            .filter(|&n| n != "splitting"),
+    );
     let mut any = false;
     println!(
         "Host time per step (criterion medians, one run; ratios to the splitting of the same run)"
