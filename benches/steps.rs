@@ -5,7 +5,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rigid3::{
-    Body, Integrator, Midpoint, Mv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
+    Body, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
 };
 
 const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];
@@ -21,6 +21,8 @@ fn all_methods<T: Real + 'static>(
         ("splitting", Box::new(Splitting::new(body, h))),
         ("splitting2", Box::new(Splitting2::new(body, h))),
         ("mv", Box::new(Mv::new(body, h))),
+        ("pre-mv4", Box::new(PreMv::new(body, h, 4))),
+        ("pre-mv10", Box::new(PreMv::new(body, h, 10))),
         ("seed-mv", Box::new(SeedMv::new(body, h))),
         ("midpoint", Box::new(Midpoint::new(body, h))),
         (

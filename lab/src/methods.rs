@@ -1,7 +1,7 @@
 //! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
 
 use rigid3::{
-    Body, Integrator, Midpoint, Mv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
+    Body, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
     StepError,
 };
 
@@ -10,6 +10,10 @@ use crate::general::GeneralDmv;
 /// The method names the CLI accepts, in the order tables list them.
 pub const METHODS: &[&str] = &[
     "mv",
+    "pre-mv4",
+    "pre-mv6",
+    "pre-mv8",
+    "pre-mv10",
     "seed-mv",
     "splitting",
     "splitting2",
@@ -23,6 +27,10 @@ pub const METHODS: &[&str] = &[
 pub fn describe(name: &str) -> &'static str {
     match name {
         "mv" => "closed-form explicit DMV (one 3x3 solve, no sqrt/trig), order 2",
+        "pre-mv4" => "preprocessed DMV (Hairer-Vilmart modified inertia), order 4",
+        "pre-mv6" => "preprocessed DMV, order 6",
+        "pre-mv8" => "preprocessed DMV, order 8",
+        "pre-mv10" => "preprocessed DMV, order 10",
         "seed-mv" => "talk's explicit DMV (cubic + eigenvectors), order 2",
         "splitting" => "McLachlan's splitting, 3 axis rotations (5 a step), order 2",
         "splitting2" => "McLachlan's splitting with the Casimir split off, 2 rotations, order 2",
@@ -38,6 +46,10 @@ pub fn describe(name: &str) -> &'static str {
 pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dyn Integrator<T>>> {
     match name {
         "mv" => Some(Box::new(Mv::new(body, h))),
+        "pre-mv4" => Some(Box::new(PreMv::new(body, h, 4))),
+        "pre-mv6" => Some(Box::new(PreMv::new(body, h, 6))),
+        "pre-mv8" => Some(Box::new(PreMv::new(body, h, 8))),
+        "pre-mv10" => Some(Box::new(PreMv::new(body, h, 10))),
         "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
         "splitting" => Some(Box::new(Splitting::new(body, h))),
         "splitting2" => Some(Box::new(Splitting2::new(body, h))),

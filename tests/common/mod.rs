@@ -29,6 +29,26 @@ pub const TALK_MAX_STEP: f64 = 1.060273597;
 pub const HV_I: [f64; 3] = [0.6, 0.8, 1.0];
 pub const HV_M0: [f64; 3] = [1.8, 0.4, -0.9];
 
+/// Reference attitude q(10) of the talk's case from q0 = 1 (mpmath, lab/refs/refs.json).
+pub const TALK_Q10: [f64; 4] = [
+    0.05848376704928084885,
+    -0.7688612700282374779,
+    -0.5298928566545770041,
+    0.35305177652681915446,
+];
+/// Reference m(10), q(10) of Hairer–Vilmart's driver case from q0 = 1.
+pub const HV_M10: [f64; 3] = [
+    1.76596250851820753572,
+    -0.6954641970330891194,
+    0.77955498148187108610,
+];
+pub const HV_Q10: [f64; 4] = [
+    -0.7360613641607939361,
+    -0.5707869512403507332,
+    -0.2993885718307900937,
+    -0.2068390861046731924,
+];
+
 /// SplitMix64: a small, seeded, reproducible generator for test inputs.
 pub struct Rng(u64);
 
@@ -90,4 +110,11 @@ pub fn observed_order(hs: &[f64], errs: &[f64]) -> f64 {
     let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
     sxy / sxx
+}
+
+/// Distance between unit quaternions up to sign (q and -q are the same attitude).
+pub fn qdist(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let d1: f64 = (0..4).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt();
+    let d2: f64 = (0..4).map(|k| (a[k] + b[k]).powi(2)).sum::<f64>().sqrt();
+    d1.min(d2)
 }
