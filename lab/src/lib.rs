@@ -10,4 +10,6 @@ pub mod flops;
 pub mod general;
 pub mod methods;
 pub mod propagate;
+pub mod refs;
 pub mod scenes;
+pub mod work_precision;

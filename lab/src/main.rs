@@ -53,6 +53,15 @@ enum Command {
         #[arg(long, default_value = "target/criterion")]
         dir: std::path::PathBuf,
     },
+    /// Work-precision tables (counted ops to reach each error level) on the public scenes.
+    WorkPrecision {
+        /// Scenes (default: talk and hv).
+        #[arg(long, value_delimiter = ',', default_value = "talk,hv")]
+        scenes: Vec<String>,
+        /// Final time (a reference time: 1, 10 or 100).
+        #[arg(long, default_value_t = 10.0)]
+        t: f64,
+    },
     /// Counted flops per step of every method (the counting `Real`).
     Flops {
         /// Step size.
@@ -127,6 +136,22 @@ fn main() -> ExitCode {
                 );
                 ExitCode::FAILURE
             }
+        }
+        Command::WorkPrecision { scenes, t } => {
+            let mut all = true;
+            for name in scenes {
+                let Some(scene) = rigid3_lab::refs::scene(&name) else {
+                    eprintln!("error: unknown scene '{name}'");
+                    return ExitCode::FAILURE;
+                };
+                all &= rigid3_lab::work_precision::print_table(&scene, t);
+                println!();
+            }
+            println!(
+                "target (best PreMv below every baseline at every level, 10x at 1e-10): {}",
+                if all { "met" } else { "NOT met" }
+            );
+            ExitCode::SUCCESS
         }
         Command::Flops { h } => {
             rigid3_lab::flops::print_table(h);
