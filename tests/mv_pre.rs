@@ -7,6 +7,9 @@ mod common;
 use common::*;
 use rigid3::{Body, Integrator, Mv, PreMv, State, StepError};
 
+/// A scene: body, initial momentum, reference (m, q) at t = 10.
+type Case = (Body<f64>, [f64; 3], ([f64; 3], [f64; 4]));
+
 /// Errors in m and q at t = 10.
 fn errors(
     body: Body<f64>,
@@ -23,7 +26,7 @@ fn errors(
     (dist(s.m, refs.0), qdist(s.q, refs.1))
 }
 
-fn talk() -> (Body<f64>, [f64; 3], ([f64; 3], [f64; 4])) {
+fn talk() -> Case {
     (
         Body::from_mass_matrix(TALK_J).unwrap(),
         TALK_M0,
@@ -31,16 +34,12 @@ fn talk() -> (Body<f64>, [f64; 3], ([f64; 3], [f64; 4])) {
     )
 }
 
-fn hv() -> (Body<f64>, [f64; 3], ([f64; 3], [f64; 4])) {
+fn hv() -> Case {
     (Body::from_inertia(HV_I).unwrap(), HV_M0, (HV_M10, HV_Q10))
 }
 
 /// Slopes of log error against log h, in m and in q.
-fn slopes(
-    case: (Body<f64>, [f64; 3], ([f64; 3], [f64; 4])),
-    order: u8,
-    hs: &[f64],
-) -> (f64, f64, Vec<(f64, f64)>) {
+fn slopes(case: Case, order: u8, hs: &[f64]) -> (f64, f64, Vec<(f64, f64)>) {
     let errs: Vec<(f64, f64)> = hs
         .iter()
         .map(|&h| errors(case.0, case.1, case.2, order, h))
