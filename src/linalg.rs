@@ -162,15 +162,6 @@ impl<T: Real> Mat3<T> {
             self.z_axis.scale(d.z),
         )
     }
-    /// `diag(d) * self`: scales the rows.
-    #[inline]
-    pub fn diag_mul(&self, d: Vec3<T>) -> Self {
-        Self::from_cols(
-            self.x_axis.mul_elem(d),
-            self.y_axis.mul_elem(d),
-            self.z_axis.mul_elem(d),
-        )
-    }
     #[inline]
     pub fn mul_vec(&self, v: Vec3<T>) -> Vec3<T> {
         self.x_axis

@@ -31,40 +31,58 @@
 //! comparisons on the common path, a discriminant only for large steps.
 
 use crate::body::Body;
-use crate::cubic::{quartic_eval, quartic_largest_root, solve_cubic, CubicRoots};
+use crate::cubic::{quartic_largest_root, solve_cubic, CubicRoots};
 use crate::error::StepError;
 use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
 
-/// Per-trajectory data of the closed-form step: the scale, the scaled body and `s1`.
+/// Per-trajectory data of the closed-form step: the scale, the scaled body and
+/// `delta = s1 - (j1 + j2 + j3)`.
+///
+/// `s1` itself is `J1 + J2 + J3 + O(h^2)`, and the step needs `s1 - sum J` (and the rest of
+/// the map minus the identity) to full relative accuracy when `h |Omega|` is small: computing
+/// `s1` and subtracting would leave the increment with an error of `eps / (h |Omega|)`, which
+/// in f32 at a 200 Hz loop (`h |Omega| ~ 5e-4`) drifted the energy by 2% in 10^6 steps. So the
+/// quartic is written about `s1_0 = sum j`: with `alpha = |mm|^2`, `beta = sum a_i j_i^2`,
+/// `eps_u = 2 s1_0 delta + delta^2 + alpha` and `u0 = s1_0^2 - sum j_i^2 = 2 s2_0`,
+///
+/// `g(delta) = 2 u0 eps_u + eps_u^2 - 8 s3 delta + 4 beta = 0`,
+///
+/// every term of which is small when `h` is (MATH.md §4's quartic minus its value at `h = 0`).
 #[derive(Clone, Copy, Debug)]
 struct Track<T> {
     /// `h / kappa`, applied to `m`.
     hn: T,
+    /// `(kappa / h)^2`: `|m|^2 = alpha (kappa / h)^2`, or zero for `h = 0`.
+    inv_hn2: T,
     /// `J / kappa`.
     j: Vec3<T>,
     /// `(J / kappa)^2`.
     j2: Vec3<T>,
-    /// `(j2 j3, j1 j3, j1 j2)`, scaled: `s3 J^-1`.
-    jj: Vec3<T>,
+    /// `j_i^2 + s2_0`, the diagonal of `L^T` at `h = 0` less `s2 - s2_0`.
+    c0: Vec3<T>,
     /// `sum j_i^2`.
     sum_j2: T,
     /// `j1^2 j2^2 + j1^2 j3^2 + j2^2 j3^2`.
     pair_j2: T,
+    /// `8 s3 = 8 j1 j2 j3`.
+    s3x8: T,
     /// `s3 = j1 j2 j3`.
     s3: T,
-    /// `8 s3`.
-    s3x8: T,
-    /// `1 / q'(s1)` at the exact solve: the invariants are constant along a trajectory, so
+    /// `s1_0 = j1 + j2 + j3`.
+    s0: T,
+    /// `2 s1_0`.
+    two_s0: T,
+    /// `2 u0 = 4 s2_0`.
+    two_u0: T,
+    /// `delta = s1 - s1_0` for the current invariants.
+    delta: T,
+    /// `1 / g'(delta)` at the exact solve: the invariants are constant along a trajectory, so
     /// the derivative is too, and the tracking step needs no division (a chord step, which
     /// converges like Newton's while the invariants move by at most `sqrt(eps)`).
-    inv_dq: T,
-    /// Largest root of the quartic for the current invariants.
-    s1: T,
-    /// `(s1^2 - sum j_i^2) / 2`, so that `s2 - |mm|^2 = d0 - |mm|^2 / 2` costs one operation.
-    d0: T,
-    /// `2 sqrt(eps) s1`: a Newton correction above it means the invariants moved.
+    inv_dg: T,
+    /// `2 sqrt(eps) s1_0`: a tracking correction above it means the invariants moved.
     newton_tol: T,
 }
 
@@ -74,13 +92,10 @@ struct Advanced<T> {
     rotation: Option<(Mat3<T>, T)>,
 }
 
-/// What one step needs from the tracking: the updated data, the coefficients of this `m`
-/// and the `s1` to use.
+/// What one step needs from the tracking: the updated data and the coefficients of this `m`.
 struct System<T> {
     t: Track<T>,
     k: Coefficients<T>,
-    s1: T,
-    d0: T,
 }
 
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
@@ -161,7 +176,10 @@ impl<T: Real> Mv<T> {
         max_step(body, m)
     }
 
-    /// Solves for `s1` exactly and sets the scale for momentum `m`.
+    /// Solves for `s1` exactly and sets the scale for momentum `m`. Cold: it runs at set-up
+    /// and after outside changes, and keeping it out of line keeps the step's code small.
+    #[cold]
+    #[inline(never)]
     fn resync(&mut self, m: Vec3<T>) -> Result<Track<T>, StepError> {
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
@@ -175,79 +193,107 @@ impl<T: Real> Mv<T> {
         let inv = T::ONE / kappa;
         let jn = j.scale(inv);
         let j2 = jn.mul_elem(jn);
+        let s0 = jn.x + jn.y + jn.z;
+        let s2_0 = jn.x * jn.y + jn.x * jn.z + jn.y * jn.z;
+        let hn = self.h * inv;
         let mut t = Track {
-            hn: self.h * inv,
+            hn,
+            inv_hn2: if hn != T::ZERO {
+                T::ONE / sq(hn)
+            } else {
+                T::ZERO
+            },
             j: jn,
             j2,
-            jj: Vec3::new(jn.y * jn.z, jn.x * jn.z, jn.x * jn.y),
+            c0: Vec3::new(j2.x + s2_0, j2.y + s2_0, j2.z + s2_0),
             sum_j2: j2.x + j2.y + j2.z,
             pair_j2: j2.x * j2.y + j2.x * j2.z + j2.y * j2.z,
-            s3: jn.x * jn.y * jn.z,
             s3x8: c::<T>(8.0) * jn.x * jn.y * jn.z,
-            inv_dq: T::ZERO,
-            s1: T::ZERO,
-            d0: T::ZERO,
-            newton_tol: T::ZERO,
+            s3: jn.x * jn.y * jn.z,
+            s0,
+            two_s0: s0 + s0,
+            two_u0: c::<T>(4.0) * s2_0,
+            delta: T::ZERO,
+            inv_dg: T::ZERO,
+            newton_tol: c::<T>(2.0) * T::EPSILON.sqrt() * s0,
         };
-        let Coefficients { big_a, big_b, .. } = t.coefficients(m);
-        if !exists(big_a, big_b, sq(t.s3)) {
+        let k = t.coefficients(m);
+        if !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
-        t.s1 = quartic_largest_root(big_a, big_b, t.s3).ok_or(StepError::StepTooLarge)?;
-        t.newton_tol = c::<T>(2.0) * T::EPSILON.sqrt() * t.s1;
-        let (_, dq) = quartic_eval(t.s1, big_a, big_b, t.s3);
-        if !(dq > T::ZERO) {
+        let s1 = quartic_largest_root(k.big_a, k.big_b, t.s3).ok_or(StepError::StepTooLarge)?;
+        // polish delta on the cancellation-free g: s1 - s0 has only absolute accuracy
+        let mut delta = s1 - s0;
+        let (mut g, mut dg) = t.g(delta, &k);
+        let mut it = 0;
+        while it < 4 && dg > T::ZERO && g != T::ZERO {
+            let next = delta - g / dg;
+            let (gn, dgn) = t.g(next, &k);
+            if !(gn.abs() < g.abs()) {
+                break;
+            }
+            delta = next;
+            g = gn;
+            dg = dgn;
+            it += 1;
+        }
+        if !(dg > T::ZERO) || !delta.is_finite() {
             // the largest root is simple (MATH.md §4); a flat quartic means no valid split
             return Err(StepError::Degenerate);
         }
-        t.inv_dq = T::ONE / dq;
-        t.d0 = (sq(t.s1) - t.sum_j2) * c::<T>(0.5);
+        t.delta = delta;
+        t.inv_dg = T::ONE / dg;
         Ok(t)
     }
 
-    /// The tracking data, `s1` for this step and the coefficients for momentum `m`: one chord
-    /// step takes the tracked `s1` to the current invariants before it is used (or `s1` is
-    /// solved exactly when the correction is large). Using the previous step's `s1` instead
-    /// would shorten the dependency chain, but feeds an invariant error at step `k` back into
-    /// step `k + 1`; at large steps that loop amplifies (on the talk's case at `h = 0.93`,
-    /// `|m|^2` errors grew from `1e-15` to `3e-8` in 60 steps), so it is not done.
-    fn system(&mut self, m: Vec3<T>) -> Result<System<T>, StepError> {
+    /// The tracking data and the coefficients for momentum `m`: one chord step takes the
+    /// tracked `delta` to the current invariants before it is used (or it is solved exactly
+    /// when the correction is large). Using the previous step's value instead would shorten
+    /// the dependency chain, but feeds an invariant error at step `k` back into step `k + 1`;
+    /// at large steps that loop amplifies (on the talk's case at `h = 0.93`, `|m|^2` errors
+    /// grew from `1e-15` to `3e-8` in 60 steps), so it is not done. The existence test is
+    /// needed only when `m` is not the momentum returned last: otherwise its invariants, which
+    /// decide existence, are those of a step that existed.
+    fn system(&mut self, m: Vec3<T>, free_running: bool) -> Result<System<T>, StepError> {
         let mut t = match self.track {
             Some(t) => t,
             None => self.resync(m)?,
         };
         let mut k = t.coefficients(m);
-        if !exists(k.big_a, k.big_b, sq(t.s3)) {
+        if !free_running && !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
-        // q(s1) for the current invariants, and one chord step
-        let u = sq(t.s1) - k.big_a;
-        let q = sq(u) - t.s3x8 * t.s1 - c::<T>(4.0) * k.big_b;
-        let delta = q * t.inv_dq;
-        let (s1, d0) = if delta.abs() <= t.newton_tol {
-            t.s1 -= delta;
-            t.d0 = (sq(t.s1) - t.sum_j2) * c::<T>(0.5);
-            (t.s1, t.d0)
+        let (g, _) = t.g_only(t.delta, &k);
+        let correction = g * t.inv_dg;
+        if correction.abs() <= t.newton_tol {
+            t.delta -= correction;
         } else {
             // the invariants moved (the caller changed m, or the first step): solve exactly,
             // with the scale re-chosen for this m
             t = self.resync(m)?;
             k = t.coefficients(m);
-            (t.s1, t.d0)
-        };
-        Ok(System { t, k, s1, d0 })
+        }
+        Ok(System { t, k })
     }
 
     /// One momentum step; returns the new momentum and, for `step_state`, `X^T`.
+    ///
+    /// With `D = diag(s1 J + s3 J^-1)`, the map is `m' = (D + J M) y`, `L^T y = m`. At `h = 0`,
+    /// `D = L^T`, so `D + J M = L^T + Delta` with `Delta` small, and the step is computed as
+    /// `m' = m + Delta y`: the increment keeps full relative accuracy and only the final
+    /// addition rounds `m`. `Delta`'s diagonal is `delta j_i - (s2 - s2_0) - a_i + |mm|^2`, its
+    /// off-diagonal `j_i M_ij - L^T_ij`.
     fn advance(&mut self, m: Vec3<T>, with_rotation: bool) -> Result<Advanced<T>, StepError> {
+        let free_running = matches!(self.anchor, Some(a) if a.last == m);
+        let System { t, k } = self.system(m, free_running)?;
+        let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
         // X is orthogonal only to round-off, and that round-off is correlated along the
         // orbit, so |m|^2 would drift linearly (7.6e-12 in f64, 2e-3 in f32 after 10^6 steps
         // on the talk's case). Each step therefore scales its input back to the trajectory's
-        // |m|^2, to first order (exact to O(eps^2)), with no division or square root; the
-        // factor is folded into the solve. The reference is re-taken whenever the caller
-        // changed m (a filter's correction is kept, not undone).
-        let n2 = m.norm2();
-        let free_running = matches!(self.anchor, Some(a) if a.last == m);
+        // |m|^2 (read off alpha = |h m / kappa|^2), to first order (exact to O(eps^2)), with no
+        // division or square root; the factor is folded into the solve. The reference is
+        // re-taken whenever the caller changed m (a filter's correction is kept, not undone).
+        let n2 = alpha * t.inv_hn2;
         let anchor = match self.anchor {
             Some(a) if free_running => a,
             _ => Anchor {
@@ -260,18 +306,25 @@ impl<T: Real> Mv<T> {
                 },
             },
         };
-        let fix = (anchor.casimir - n2) * anchor.half_inv + T::ONE;
-        let System { t, k, s1, d0 } = self.system(m)?;
-        let (mm, a) = (k.mm, k.a);
-        // L^T = M^2 + J^2 + s1 M + s2 I with M = hat(mm), M^2 = mm mm^T - |mm|^2 I, and
-        // s2 - |mm|^2 = (s1^2 - A) / 2 - |mm|^2 = d0 - |mm|^2 / 2
-        let d = d0 - k.sum_a * c::<T>(0.5);
+        // the correction is tiny: it goes into the increment, never into a product with m
+        // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp)
+        let corr = (anchor.casimir - n2) * anchor.half_inv;
+        let fix = corr + T::ONE;
+        let delta = t.delta;
+        let s1 = t.s0 + delta;
+        // s2 - s2_0 = s1_0 delta + delta^2 / 2 + |mm|^2 / 2, and e = s2 - |mm|^2 - s2_0
+        let e = t.s0 * delta + (sq(delta) - alpha) * c::<T>(0.5);
+        // L^T = M^2 + J^2 + s1 M + s2 I with M = hat(mm), M^2 = mm mm^T - |mm|^2 I
         let (xy, xz, yz) = (mm.x * mm.y, mm.x * mm.z, mm.y * mm.z);
         let (sx, sy, sz) = (s1 * mm.x, s1 * mm.y, s1 * mm.z);
+        let (l01, l02, l12) = (xy - sz, xz + sy, yz - sx);
+        let (l10, l20, l21) = (xy + sz, xz - sy, yz + sx);
+        // a_i + e is shared by L^T's diagonal and Delta's
+        let ae = Vec3::new(a.x + e, a.y + e, a.z + e);
         let lt = Mat3::from_cols(
-            Vec3::new(a.x + t.j2.x + d, xy + sz, xz - sy),
-            Vec3::new(xy - sz, a.y + t.j2.y + d, yz + sx),
-            Vec3::new(xz + sy, yz - sx, a.z + t.j2.z + d),
+            Vec3::new(t.c0.x + ae.x, l10, l20),
+            Vec3::new(l01, t.c0.y + ae.y, l21),
+            Vec3::new(l02, l12, t.c0.z + ae.z),
         );
         // L^T y = m by Cramer's rule: the rows of adj(L^T) are cross products of its columns
         let r0 = lt.y_axis.cross(lt.z_axis);
@@ -283,16 +336,22 @@ impl<T: Real> Mv<T> {
         }
         let inv_det = T::ONE / det;
         let y = Vec3::new(r0.dot(m), r1.dot(m), r2.dot(m)).scale(inv_det * fix);
-        let diag = t.j.scale(s1).add(t.jj);
-        let next = diag.mul_elem(y).add(t.j.mul_elem(mm.cross(y)));
+        // Delta = D + J M - L^T
+        let j = t.j;
+        let dd = Vec3::new(delta * j.x - ae.x, delta * j.y - ae.y, delta * j.z - ae.z);
+        let delta_m = Mat3::from_cols(
+            Vec3::new(dd.x, j.y * mm.z - l10, -(j.z * mm.y) - l20),
+            Vec3::new(-(j.x * mm.z) - l01, dd.y, j.z * mm.x - l21),
+            Vec3::new(j.x * mm.y - l02, -(j.y * mm.x) - l12, dd.z),
+        );
+        let next = m.add(delta_m.mul_vec(y).add(m.scale(corr)));
         if !next.is_finite() {
             return Err(StepError::Overflow);
         }
-        let xt = if with_rotation {
-            // X^T = (diag + J M) L^-T, and (L^T)^-1 has the rows r_i / det
+        let rotation = if with_rotation {
+            // X^T = (D + J M) L^-T = I + Delta L^-T, and (L^T)^-1 has the rows r_i / det
             let linv_t = Mat3::from_cols(r0, r1, r2).transpose().scale(inv_det);
-            let a = Mat3::diagonal(diag).add(&Mat3::hat(mm).diag_mul(t.j));
-            Some((a.mul_mat(&linv_t), fix))
+            Some((Mat3::identity().add(&delta_m.mul_mat(&linv_t)), fix))
         } else {
             None
         };
@@ -301,11 +360,11 @@ impl<T: Real> Mv<T> {
             last: next,
             ..anchor
         });
-        Ok(Advanced { next, rotation: xt })
+        Ok(Advanced { next, rotation })
     }
 }
 
-/// `A`, `B` of the cubic for one momentum, with the pieces `L^T` reuses.
+/// `A`, `B` of the cubic for one momentum, with the pieces the step reuses.
 struct Coefficients<T> {
     big_a: T,
     big_b: T,
@@ -313,8 +372,10 @@ struct Coefficients<T> {
     mm: Vec3<T>,
     /// `mm_i^2`.
     a: Vec3<T>,
-    /// `|mm|^2`.
+    /// `alpha = |mm|^2`.
     sum_a: T,
+    /// `beta = sum a_i j_i^2`.
+    beta: T,
 }
 
 impl<T: Real> Track<T> {
@@ -323,13 +384,30 @@ impl<T: Real> Track<T> {
         let mm = m.scale(self.hn);
         let a = mm.mul_elem(mm);
         let sum_a = a.x + a.y + a.z;
+        let beta = a.dot(self.j2);
         Coefficients {
             big_a: self.sum_j2 - sum_a,
-            big_b: self.pair_j2 - a.dot(self.j2),
+            big_b: self.pair_j2 - beta,
             mm,
             a,
             sum_a,
+            beta,
         }
+    }
+
+    /// `g(delta)` (see [`Track`]) and `eps_u`.
+    #[inline]
+    fn g_only(&self, delta: T, k: &Coefficients<T>) -> (T, T) {
+        let eps_u = self.two_s0 * delta + sq(delta) + k.sum_a;
+        let g = self.two_u0 * eps_u + sq(eps_u) - self.s3x8 * delta + c::<T>(4.0) * k.beta;
+        (g, eps_u)
+    }
+
+    /// `g(delta)` and `g'(delta)`.
+    fn g(&self, delta: T, k: &Coefficients<T>) -> (T, T) {
+        let (g, eps_u) = self.g_only(delta, k);
+        let dg = (self.two_u0 + eps_u + eps_u) * (self.two_s0 + delta + delta) - self.s3x8;
+        (g, dg)
     }
 }
 
@@ -491,24 +569,16 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
         let saved = (self.track, self.anchor);
-        let (x, fix) = match self.advance(v, true)?.rotation {
-            Some((xt, fix)) => (
-                complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
-                fix,
-            ),
+        let step = self.advance(v, true)?;
+        let x = match step.rotation {
+            Some((xt, _)) => complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
             None => return Err(StepError::Degenerate),
         };
-        // momentum and attitude move by the same X (the momentum path's y-form rounds
-        // differently); a Newton–Schulz orthogonalisation of X here was tried and cost 117
-        // flops for no gain once the attitude is composed with one rounding
-        let next = x.transpose_mul_vec(v.scale(fix));
+        let next = step.next;
         let q_next = compose_attitude(q, Quat::from_mat3(&x));
         if !q_next.is_finite() || !next.is_finite() {
             (self.track, self.anchor) = saved;
             return Err(StepError::Overflow);
-        }
-        if let Some(a) = self.anchor.as_mut() {
-            a.last = next;
         }
         s.m = next.to_array();
         s.q = q_next.to_array();
