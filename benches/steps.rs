@@ -5,7 +5,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rigid3::{
-    Body, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
+    Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2,
+    State,
 };
 
 const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];
@@ -30,6 +31,7 @@ fn all_methods<T: Real + 'static>(
             Box::new(Midpoint::with_solver(body, h, Solver::FixedPoint)),
         ),
         ("rk4", Box::new(Rk4::new(body, h))),
+        ("exact", Box::new(Exact::new(body, h))),
     ]
 }
 

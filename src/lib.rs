@@ -24,6 +24,7 @@
 //! | [`Splitting2`] | McLachlan's splitting with the Casimir split off, two rotations | 2 | `|m|^2`, `R(q) m` |
 //! | [`Midpoint`] | implicit midpoint, Newton or fixed point | 2 | `|m|^2`, `E` |
 //! | [`Rk4`] | classical Runge–Kutta | 4 | none |
+//! | [`Exact`] | the exact flow: Jacobi elliptic functions and `Pi` ([`elliptic`]) | exact | all |
 //!
 //! Every method implements [`Integrator`]: `step` advances momentum only, `step_state`
 //! momentum and attitude. A step that cannot be taken returns a [`StepError`] and leaves
@@ -51,7 +52,9 @@
 
 mod body;
 pub mod cubic;
+pub mod elliptic;
 mod error;
+mod exact;
 mod integrator;
 mod linalg;
 mod midpoint;
@@ -64,6 +67,7 @@ mod splitting;
 
 pub use body::Body;
 pub use error::{BodyError, StepError};
+pub use exact::Exact;
 pub use integrator::{Integrator, State};
 pub use midpoint::{Midpoint, Solver};
 pub use mv::Mv;

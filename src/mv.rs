@@ -254,6 +254,7 @@ impl<T: Real> Mv<T> {
     /// grew from `1e-15` to `3e-8` in 60 steps), so it is not done. The existence test is
     /// needed only when `m` is not the momentum returned last: otherwise its invariants, which
     /// decide existence, are those of a step that existed.
+    #[inline(always)]
     fn system(&mut self, m: Vec3<T>, free_running: bool) -> Result<System<T>, StepError> {
         let mut t = match self.track {
             Some(t) => t,
@@ -283,7 +284,7 @@ impl<T: Real> Mv<T> {
     /// `m' = m + Delta y`: the increment keeps full relative accuracy and only the final
     /// addition rounds `m`. `Delta`'s diagonal is `delta j_i - (s2 - s2_0) - a_i + |mm|^2`, its
     /// off-diagonal `j_i M_ij - L^T_ij`.
-    fn advance(&mut self, m: Vec3<T>, with_rotation: bool) -> Result<Advanced<T>, StepError> {
+    fn advance<const WITH_ROTATION: bool>(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
         let free_running = matches!(self.anchor, Some(a) if a.last == m);
         let System { t, k } = self.system(m, free_running)?;
         let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
@@ -348,7 +349,7 @@ impl<T: Real> Mv<T> {
         if !next.is_finite() {
             return Err(StepError::Overflow);
         }
-        let rotation = if with_rotation {
+        let rotation = if WITH_ROTATION {
             // X^T = (D + J M) L^-T = I + Delta L^-T, and (L^T)^-1 has the rows r_i / det
             let linv_t = Mat3::from_cols(r0, r1, r2).transpose().scale(inv_det);
             Some((Mat3::identity().add(&delta_m.mul_mat(&linv_t)), fix))
@@ -379,7 +380,7 @@ struct Coefficients<T> {
 }
 
 impl<T: Real> Track<T> {
-    #[inline]
+    #[inline(always)]
     fn coefficients(&self, m: Vec3<T>) -> Coefficients<T> {
         let mm = m.scale(self.hn);
         let a = mm.mul_elem(mm);
@@ -561,7 +562,7 @@ fn bisect<T: Real>(d: &[T; 5], mut lo: T, mut hi: T) -> T {
 impl<T: Real> Integrator<T> for Mv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let v = checked_momentum(m)?;
-        let next = self.advance(v, false)?.next;
+        let next = self.advance::<false>(v)?.next;
         *m = next.to_array();
         Ok(())
     }
@@ -569,7 +570,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
         let saved = (self.track, self.anchor);
-        let step = self.advance(v, true)?;
+        let step = self.advance::<true>(v)?;
         let x = match step.rotation {
             Some((xt, _)) => complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
             None => return Err(StepError::Degenerate),

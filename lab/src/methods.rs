@@ -1,8 +1,8 @@
 //! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
 
 use rigid3::{
-    Body, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2, State,
-    StepError,
+    Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2,
+    State, StepError,
 };
 
 use crate::general::GeneralDmv;
@@ -20,6 +20,7 @@ pub const METHODS: &[&str] = &[
     "midpoint",
     "midpoint-fp",
     "rk4",
+    "exact",
     "general",
 ];
 
@@ -37,6 +38,7 @@ pub fn describe(name: &str) -> &'static str {
         "midpoint" => "implicit midpoint rule, Newton, order 2",
         "midpoint-fp" => "implicit midpoint rule, fixed-point iteration, order 2",
         "rk4" => "classical Runge-Kutta, order 4",
+        "exact" => "exact solution (Jacobi elliptic functions, Carlson R_F/R_J), stepped by h",
         "general" => "DMV by the general-N Cardoso–Leite solver (lab oracle, f64 only)",
         _ => "unknown",
     }
@@ -56,6 +58,7 @@ pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dy
         "midpoint" => Some(Box::new(Midpoint::new(body, h))),
         "midpoint-fp" => Some(Box::new(Midpoint::with_solver(body, h, Solver::FixedPoint))),
         "rk4" => Some(Box::new(Rk4::new(body, h))),
+        "exact" => Some(Box::new(Exact::new(body, h))),
         "general" => {
             // the oracle is f64-only; wrap through f64
             Some(Box::new(Widened(GeneralDmv::new(
