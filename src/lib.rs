@@ -19,6 +19,7 @@
 //! |---|---|---|---|
 //! | [`Mv`] | closed-form explicit DMV: one 3x3 solve, no sqrt, no trig (flagship) | 2 | `|m|^2`, `E`, `R(q) m` |
 //! | [`PreMv`] | DMV with modified moments (Hairer–Vilmart), same cost per step as `Mv` | 4–10 | `|m|^2`, `E`, `R(q) m` |
+//! | [`RetimedMv`] | DMV (or `PreMv`) with its step chosen from the exact solution: `m` exact at `t = n h` | m: exact, q: 2–10 | `|m|^2`, `E`, `R(q) m` |
 //! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors), as published | 2 | `|m|^2`, `E`, `R(q) m` |
 //! | [`Splitting`] | McLachlan's symmetric splitting, three axis rotations | 2 | `|m|^2`, `R(q) m` |
 //! | [`Splitting2`] | McLachlan's splitting with the Casimir split off, two rotations | 2 | `|m|^2`, `R(q) m` |
@@ -60,6 +61,7 @@ mod linalg;
 mod midpoint;
 mod mv;
 mod mv_pre;
+mod mv_retimed;
 mod mv_seed;
 mod real;
 mod rk4;
@@ -72,6 +74,7 @@ pub use integrator::{Integrator, State};
 pub use midpoint::{Midpoint, Solver};
 pub use mv::Mv;
 pub use mv_pre::PreMv;
+pub use mv_retimed::RetimedMv;
 pub use mv_seed::SeedMv;
 pub use real::Real;
 pub use rk4::Rk4;

@@ -171,3 +171,44 @@ fn a_changed_momentum_recomputes_the_modified_body() {
     PreMv::new(b, 0.1, 6).step(&mut fresh).unwrap();
     assert!(dist(changed, fresh) < 1e-15);
 }
+
+#[test]
+fn retimed_dmv_is_exact_in_m_and_keeps_the_order_of_q() {
+    use rigid3::RetimedMv;
+    for (name, case, h) in [("talk", talk(), 0.1), ("hv", hv(), 0.05)] {
+        let (b, m0, refs) = case;
+        for order in [2u8, 4, 10] {
+            let mut a = RetimedMv::new(b, h, order);
+            let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+            for _ in 0..(10.0 / h).round() as usize {
+                a.step_state(&mut s).unwrap();
+            }
+            let (em, eq) = (dist(s.m, refs.0), qdist(s.q, refs.1));
+            let (pm, pq) = errors(b, m0, refs, order, h);
+            println!(
+                "{name} order {order}: retimed m {em:.1e} q {eq:.1e}; plain m {pm:.1e} q {pq:.1e}"
+            );
+            assert!(em <= 1e-12, "{name} order {order}: m error {em:e}");
+            // q keeps the underlying order: within a factor 3 of the un-retimed error
+            assert!(
+                eq <= 3.0 * pq.max(1e-13),
+                "{name} order {order}: q error {eq:e} vs {pq:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn retiming_an_equilibrium_changes_nothing() {
+    use rigid3::RetimedMv;
+    let (b, _, _) = talk();
+    let a = RetimedMv::new(b, 0.1, 2);
+    assert_eq!(a.retimed_step(&[0.0, 1.0, 0.0]), Ok(0.1));
+    assert_eq!(a.retimed_step(&[0.0; 3]), Ok(0.1));
+    // talk's case: DMV is slow (tau = h (1 + 0.225 h^2 + ...)), so h' < h
+    let hp = a.retimed_step(&TALK_M0).unwrap();
+    assert!(
+        hp < 0.1 && ((0.1 / hp - 1.0) / 0.01 - 0.2253).abs() < 0.01,
+        "{hp}"
+    );
+}

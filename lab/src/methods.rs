@@ -1,8 +1,8 @@
 //! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
 
 use rigid3::{
-    Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2,
-    State, StepError,
+    Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver, Splitting,
+    Splitting2, State, StepError,
 };
 
 use crate::general::GeneralDmv;
@@ -14,6 +14,8 @@ pub const METHODS: &[&str] = &[
     "pre-mv6",
     "pre-mv8",
     "pre-mv10",
+    "retimed-mv",
+    "retimed-pre-mv10",
     "seed-mv",
     "splitting",
     "splitting2",
@@ -32,6 +34,8 @@ pub fn describe(name: &str) -> &'static str {
         "pre-mv6" => "preprocessed DMV, order 6",
         "pre-mv8" => "preprocessed DMV, order 8",
         "pre-mv10" => "preprocessed DMV, order 10",
+        "retimed-mv" => "DMV retimed from the exact solution: m exact, q order 2",
+        "retimed-pre-mv10" => "order-10 preprocessed DMV, retimed: m exact, q order 10",
         "seed-mv" => "talk's explicit DMV (cubic + eigenvectors), order 2",
         "splitting" => "McLachlan's splitting, 3 axis rotations (5 a step), order 2",
         "splitting2" => "McLachlan's splitting with the Casimir split off, 2 rotations, order 2",
@@ -52,6 +56,8 @@ pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dy
         "pre-mv6" => Some(Box::new(PreMv::new(body, h, 6))),
         "pre-mv8" => Some(Box::new(PreMv::new(body, h, 8))),
         "pre-mv10" => Some(Box::new(PreMv::new(body, h, 10))),
+        "retimed-mv" => Some(Box::new(RetimedMv::new(body, h, 2))),
+        "retimed-pre-mv10" => Some(Box::new(RetimedMv::new(body, h, 10))),
         "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
         "splitting" => Some(Box::new(Splitting::new(body, h))),
         "splitting2" => Some(Box::new(Splitting2::new(body, h))),
