@@ -36,14 +36,11 @@ pub struct PreMv<T> {
     body: Body<T>,
     h: T,
     order: u8,
-    inner: Option<Modified<T>>,
-}
-
-/// The `Mv` of the modified body for one trajectory, and the momentum it returned last.
-#[derive(Clone, Copy, Debug)]
-struct Modified<T> {
+    /// The `Mv` of the modified body for this trajectory (stepped in place: copying its
+    /// tracking state in and out each step tripled the cost on a Cortex-M4F)...
     mv: Mv<T>,
-    last: [T; 3],
+    /// ...valid while the momentum is the one it returned last.
+    last: Option<[T; 3]>,
 }
 
 impl<T: Real> PreMv<T> {
@@ -55,7 +52,8 @@ impl<T: Real> PreMv<T> {
             body,
             h,
             order,
-            inner: None,
+            mv: Mv::new(body, h),
+            last: None,
         }
     }
 
@@ -67,7 +65,7 @@ impl<T: Real> PreMv<T> {
     /// Changes the step size; the modified moments are computed again at the next step.
     pub fn set_step(&mut self, h: T) {
         self.h = h;
-        self.inner = None;
+        self.last = None;
     }
 
     /// The modified principal moments `I~` for momentum `m` (MATH.md §5).
@@ -75,35 +73,42 @@ impl<T: Real> PreMv<T> {
         modified_inertia(&self.body, self.h, self.order, m)
     }
 
-    /// The `Mv` for this trajectory: reused while `m` is the momentum returned last.
-    fn modified(&mut self, m: &[T; 3]) -> Result<Mv<T>, StepError> {
-        if let Some(k) = &self.inner {
-            if k.last == *m {
-                return Ok(k.mv);
-            }
+    /// Makes `self.mv` the `Mv` of this trajectory: kept while `m` is the momentum returned
+    /// last, built again otherwise.
+    #[inline(always)]
+    fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
+        if self.last != Some(*m) {
+            self.rebuild(m)?;
         }
+        Ok(())
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
         checked_momentum(m)?;
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
         }
         let inertia = modified_inertia(&self.body, self.h, self.order, m)?;
         let body = Body::from_inertia(inertia).map_err(|_| StepError::StepTooLarge)?;
-        Ok(Mv::new(body, self.h))
+        self.mv = Mv::new(body, self.h);
+        Ok(())
     }
 }
 
 impl<T: Real> Integrator<T> for PreMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
-        let mut mv = self.modified(m)?;
-        mv.step(m)?;
-        self.inner = Some(Modified { mv, last: *m });
+        self.prepare(m)?;
+        self.mv.step(m)?;
+        self.last = Some(*m);
         Ok(())
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
-        let mut mv = self.modified(&s.m)?;
-        mv.step_state(s)?;
-        self.inner = Some(Modified { mv, last: s.m });
+        self.prepare(&s.m)?;
+        self.mv.step_state(s)?;
+        self.last = Some(s.m);
         Ok(())
     }
 

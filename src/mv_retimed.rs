@@ -34,7 +34,10 @@ pub struct RetimedMv<T> {
     body: Body<T>,
     h: T,
     order: u8,
-    inner: Option<(PreMv<T>, [T; 3])>,
+    /// The DMV with the retimed step, stepped in place...
+    inner: PreMv<T>,
+    /// ...valid while the momentum is the one it returned last.
+    last: Option<[T; 3]>,
 }
 
 impl<T: Real> RetimedMv<T> {
@@ -44,7 +47,8 @@ impl<T: Real> RetimedMv<T> {
             body,
             h,
             order,
-            inner: None,
+            inner: PreMv::new(body, h, order),
+            last: None,
         }
     }
 
@@ -53,14 +57,20 @@ impl<T: Real> RetimedMv<T> {
         retime(&self.body, self.h, self.order, m)
     }
 
-    fn integrator(&mut self, m: &[T; 3]) -> Result<PreMv<T>, StepError> {
-        if let Some((a, last)) = &self.inner {
-            if last == m {
-                return Ok(*a);
-            }
+    #[inline(always)]
+    fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
+        if self.last != Some(*m) {
+            self.rebuild(m)?;
         }
+        Ok(())
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
         let h = retime(&self.body, self.h, self.order, m)?;
-        Ok(PreMv::new(self.body, h, self.order))
+        self.inner = PreMv::new(self.body, h, self.order);
+        Ok(())
     }
 }
 
@@ -128,16 +138,16 @@ fn retime<T: Real>(body: &Body<T>, h: T, order: u8, m: &[T; 3]) -> Result<T, Ste
 
 impl<T: Real> Integrator<T> for RetimedMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
-        let mut a = self.integrator(m)?;
-        a.step(m)?;
-        self.inner = Some((a, *m));
+        self.prepare(m)?;
+        self.inner.step(m)?;
+        self.last = Some(*m);
         Ok(())
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
-        let mut a = self.integrator(&s.m)?;
-        a.step_state(s)?;
-        self.inner = Some((a, s.m));
+        self.prepare(&s.m)?;
+        self.inner.step_state(s)?;
+        self.last = Some(s.m);
         Ok(())
     }
 
