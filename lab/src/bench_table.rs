@@ -40,7 +40,7 @@ pub fn print(criterion_dir: &Path) -> bool {
                 let ratio = base
                     .map(|b| format!("{:.2}", t / b))
                     .unwrap_or_else(|| "-".into());
-                println!("{g:<14} {n:<10} {t:>10.1} {ratio:>12}");
+                println!("{g:<14} {n:<17} {t:>10.1} {ratio:>12}");
             }
         }
     }

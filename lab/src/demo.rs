@@ -65,12 +65,12 @@ pub fn print_demo() {
          change over {DRIFT_STEPS} steps with attitude"
     );
     println!(
-        "{:<12} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10}",
+        "{:<17} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10}",
         "method", "err t=10", "err t=100", "|m|^2 drift", "E drift", "R(q)m drift", "flops/step"
     );
     for r in rows(h) {
         println!(
-            "{:<12} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10}",
+            "{:<17} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>11.3e} {:>10}",
             r.method,
             r.err10,
             r.err100,

@@ -76,12 +76,12 @@ pub fn print_table(h: f64) {
         "Counted operations per step (talk's case, h = {h}; counting Real, {STEPS}-step average)"
     );
     println!(
-        "{:<12} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>12}",
+        "{:<17} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>12}",
         "method", "flops/step", "div", "sqrt", "trig", "with q", "sqrt", "trig", "first step"
     );
     for c in all(h) {
         println!(
-            "{:<12} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>5} +{}s+{}t",
+            "{:<17} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>5} +{}s+{}t",
             c.method,
             c.momentum.flops(),
             c.momentum.div,
