@@ -190,12 +190,12 @@ impl<T: Real> Mv<T> {
         if !kappa.is_finite() {
             return Err(StepError::Overflow);
         }
-        let inv = T::ONE / kappa;
-        let jn = j.scale(inv);
+        // divide, not multiply by a reciprocal: 1 / kappa overflows for a subnormal kappa
+        let jn = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
         let j2 = jn.mul_elem(jn);
         let s0 = jn.x + jn.y + jn.z;
         let s2_0 = jn.x * jn.y + jn.x * jn.z + jn.y * jn.z;
-        let hn = self.h * inv;
+        let hn = self.h / kappa;
         let mut t = Track {
             hn,
             inv_hn2: if hn != T::ZERO {
@@ -440,8 +440,9 @@ fn max_step<T: Real>(body: &Body<T>, m: &[T; 3]) -> T {
     }
     let j = body.mass_matrix_vec();
     let kappa = j.max_abs();
-    let jn = j.scale(T::ONE / kappa);
-    let mn = m.scale(T::ONE / r);
+    // divide, not multiply by a reciprocal: 1 / r overflows for a subnormal r
+    let jn = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
+    let mn = Vec3::new(m.x / r, m.y / r, m.z / r);
     let j2 = jn.mul_elem(jn);
     let a2 = mn.mul_elem(mn);
     // A(t) = a0 - a1 t, B(t) = b0 - b1 t, with t = (h r / kappa)^2

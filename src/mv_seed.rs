@@ -76,9 +76,9 @@ impl<T: Real> SeedMv<T> {
         if !kappa.is_finite() {
             return Err(StepError::Overflow);
         }
-        let inv = T::ONE / kappa;
-        let j = j.scale(inv);
-        let mm = hm.scale(inv);
+        // divide, not multiply by a reciprocal: 1 / kappa overflows for a subnormal kappa
+        let j = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
+        let mm = Vec3::new(hm.x / kappa, hm.y / kappa, hm.z / kappa);
         let big_m = Mat3::hat(mm);
         let j2 = j.mul_elem(j);
         let a = mm.mul_elem(mm);

@@ -212,10 +212,15 @@ impl<T: Real> Splitting2<T> {
             (2, if i1 >= i2 { 0 } else { 1 })
         };
         let k = 3 - a - b;
-        let inertia = [i1, i2, i3];
-        let ck = T::ONE / inertia[k];
+        // a match, not indexing: the step functions must have no panic path (no_panic example)
+        let moment = |axis: usize| match axis {
+            0 => i1,
+            1 => i2,
+            _ => i3,
+        };
+        let ck = T::ONE / moment(k);
         Self {
-            w: Vec3::new(T::ONE / inertia[a] - ck, T::ONE / inertia[b] - ck, T::ZERO),
+            w: Vec3::new(T::ONE / moment(a) - ck, T::ONE / moment(b) - ck, T::ZERO),
             axes: [a, b, k],
             c: ck,
             h,

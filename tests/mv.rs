@@ -480,3 +480,20 @@ fn long_runs_near_the_existence_limit_stay_at_round_off() {
         }
     }
 }
+
+#[test]
+fn regression_subnormal_momentum_on_a_planar_body() {
+    // found by the fuzz smoke test: 1 / 5e-324 overflowed and max_step returned NaN
+    let body = Body::<f64>::from_mass_matrix([0.0, 0.000256, 0.000256]).unwrap();
+    let m = [5e-324, 0.0, 0.0];
+    let hmax = Mv::max_step(&body, &m);
+    assert!(hmax > 0.0 && !hmax.is_nan(), "{hmax}");
+    let mut mm = m;
+    Mv::new(body, 0.1).step(&mut mm).unwrap();
+    assert!(mm.iter().all(|x| x.is_finite()));
+    // subnormal moments of inertia: the scale is divided out, never inverted
+    let tiny = Body::<f64>::from_inertia([3e-310, 4e-310, 5e-310]).unwrap();
+    let mut m = [1e-300, 2e-300, 0.5e-300];
+    let r = Mv::new(tiny, 1e-10).step(&mut m);
+    assert!(r.is_err() || m.iter().all(|x| x.is_finite()));
+}

@@ -1,0 +1,164 @@
+//! Proof that the step functions cannot panic in a release build for the target.
+//!
+//! Every integrator's `step` and `step_state` (f32 and f64) and `Body`'s constructors are called
+//! on inputs the compiler cannot see (volatile reads), and the panic handler calls a symbol that
+//! does not exist. If any panic path survives optimisation, the link fails with an undefined
+//! reference to `rigid3_step_function_can_panic`: building this example for
+//! `thumbv7em-none-eabihf --release` is the check (`scripts/test`; the technique of the
+//! `no-panic` crate, applied to the whole binary). Running it is not needed.
+#![cfg_attr(target_os = "none", no_std, no_main)]
+
+#[cfg(not(target_os = "none"))]
+fn main() {
+    println!("no_panic: a link-time check, built for thumbv7em-none-eabihf by scripts/test");
+}
+
+#[cfg(target_os = "none")]
+mod firmware {
+    use core::ptr::{read_volatile, write_volatile};
+    use cortex_m_rt::entry;
+    use rigid3::{
+        Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver,
+        Splitting, Splitting2, State,
+    };
+
+    #[panic_handler]
+    fn panic(_: &core::panic::PanicInfo) -> ! {
+        extern "C" {
+            fn rigid3_step_function_can_panic() -> !;
+        }
+        // SAFETY: never defined: the link fails if this handler is reachable
+        unsafe { rigid3_step_function_can_panic() }
+    }
+
+    static mut INPUT: [f64; 16] = [0.0; 16];
+    static mut OUTPUT: [f64; 8] = [0.0; 8];
+
+    fn input(k: usize) -> f64 {
+        // SAFETY: a plain static read through a volatile pointer, so the value is opaque
+        unsafe { read_volatile(core::ptr::addr_of!(INPUT[k % 16])) }
+    }
+
+    fn output(k: usize, x: f64) {
+        // SAFETY: a plain static write through a volatile pointer
+        unsafe { write_volatile(core::ptr::addr_of_mut!(OUTPUT[k % 8]), x) }
+    }
+
+    fn exercise<T: Real, I: Integrator<T>>(mut a: I, k: usize) {
+        let mut m = [
+            T::from_f64(input(k)),
+            T::from_f64(input(k + 1)),
+            T::from_f64(input(k + 2)),
+        ];
+        let ok = a.step(&mut m).is_ok();
+        let mut s = State::new(
+            m,
+            [
+                T::from_f64(input(k + 3)),
+                T::ZERO,
+                T::ZERO,
+                T::from_f64(input(k + 4)),
+            ],
+        );
+        let ok2 = a.step_state(&mut s).is_ok();
+        output(
+            k,
+            s.m[0].to_f64() + s.q[3].to_f64() + ok as u8 as f64 + ok2 as u8 as f64,
+        );
+    }
+
+    /// Which functions to check (all by default): a compile-time switch for finding a panic
+    /// path, `NO_PANIC_ONLY=mv,body cargo build ...`.
+    const ONLY: &str = match option_env!("NO_PANIC_ONLY") {
+        Some(s) => s,
+        None => "",
+    };
+
+    const fn wanted(name: &str) -> bool {
+        if ONLY.is_empty() {
+            return true;
+        }
+        // a tiny const `contains`
+        let (hay, needle) = (ONLY.as_bytes(), name.as_bytes());
+        let mut i = 0;
+        while i + needle.len() <= hay.len() {
+            let mut j = 0;
+            while j < needle.len() && hay[i + j] == needle[j] {
+                j += 1;
+            }
+            if j == needle.len()
+                && (i + j == hay.len() || hay[i + j] == b',')
+                && (i == 0 || hay[i - 1] == b',')
+            {
+                return true;
+            }
+            i += 1;
+        }
+        false
+    }
+
+    fn all<T: Real>(k: usize) {
+        let i = [
+            T::from_f64(input(5)),
+            T::from_f64(input(6)),
+            T::from_f64(input(7)),
+        ];
+        let h = T::from_f64(input(8));
+        let Ok(body) = Body::from_inertia(i) else {
+            return;
+        };
+        if wanted("body") {
+            if let Ok(b) = Body::<T>::from_mass_matrix(i) {
+                output(1, b.energy(&i).to_f64());
+            }
+        }
+        let t = [
+            [i[0], T::from_f64(input(9)), T::from_f64(input(10))],
+            [T::from_f64(input(9)), i[1], T::from_f64(input(11))],
+            [T::from_f64(input(10)), T::from_f64(input(11)), i[2]],
+        ];
+        if wanted("tensor") {
+            if let Ok((b, q)) = Body::from_inertia_tensor(t) {
+                output(2, b.inertia()[0].to_f64() + q[0].to_f64());
+            }
+        }
+        if wanted("max_step") {
+            output(3, Mv::max_step(&body, &i).to_f64());
+        }
+        if wanted("mv") {
+            exercise(Mv::new(body, h), k);
+        }
+        if wanted("seed") {
+            exercise(SeedMv::new(body, h), k + 1);
+        }
+        if wanted("pre") {
+            exercise(PreMv::new(body, h, 10), k + 2);
+        }
+        if wanted("retimed") {
+            exercise(RetimedMv::new(body, h, 4), k + 3);
+        }
+        if wanted("splitting") {
+            exercise(Splitting::new(body, h), k + 4);
+            exercise(Splitting2::new(body, h), k + 5);
+        }
+        if wanted("midpoint") {
+            exercise(Midpoint::new(body, h), k + 6);
+            exercise(Midpoint::with_solver(body, h, Solver::FixedPoint), k + 7);
+        }
+        if wanted("rk4") {
+            exercise(Rk4::new(body, h), k + 8);
+        }
+        if wanted("exact") {
+            exercise(Exact::new(body, h), k + 9);
+        }
+    }
+
+    #[entry]
+    fn main() -> ! {
+        all::<f32>(0);
+        all::<f64>(3);
+        loop {
+            cortex_m::asm::wfi();
+        }
+    }
+}
