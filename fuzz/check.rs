@@ -6,8 +6,49 @@
 
 use rigid3::{
     Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver, Splitting,
-    Splitting2, State,
+    Splitting2, State, StepError,
 };
+
+/// Outcomes by kind: `Ok`, then the `StepError` variants, then any other.
+pub const OUTCOMES: [&str; 7] = [
+    "Ok",
+    "NonFinite",
+    "StepTooLarge",
+    "NoConvergence",
+    "Degenerate",
+    "Overflow",
+    "other",
+];
+
+/// Method names by selector (`method % 11`).
+pub const METHODS: [&str; 11] = [
+    "mv",
+    "seed-mv",
+    "pre-mv",
+    "retimed-mv",
+    "splitting",
+    "splitting2",
+    "midpoint",
+    "midpoint-fp",
+    "rk4",
+    "exact",
+    "mv x8",
+];
+
+/// Counts of outcomes, indexed like [`OUTCOMES`].
+pub type Tally = [u32; 7];
+
+fn kind(r: &Result<(), StepError>) -> usize {
+    match r {
+        Ok(()) => 0,
+        Err(StepError::NonFinite) => 1,
+        Err(StepError::StepTooLarge) => 2,
+        Err(StepError::NoConvergence) => 3,
+        Err(StepError::Degenerate) => 4,
+        Err(StepError::Overflow) => 5,
+        Err(_) => 6,
+    }
+}
 
 /// Reads numbers from the bytes: mode 0 takes raw bit patterns (NaN, infinities, subnormals,
 /// extremes), otherwise a moderate value `i16 / 1000 * 10^(mode - 4)`.
@@ -43,54 +84,52 @@ impl<'a> Reader<'a> {
     }
 }
 
-fn run<T: Real, I: Integrator<T>>(mut a: I, m: [T; 3], q: [T; 4]) -> u32 {
+fn same<T: Real>(a: &[T], b: &[T]) -> bool {
+    a.iter()
+        .zip(b.iter())
+        .all(|(x, y)| x == y || (x != x && y != y))
+}
+
+fn run<T: Real, I: Integrator<T>>(mut a: I, m: [T; 3], q: [T; 4]) -> Tally {
+    let mut tally = [0u32; 7];
     let mut mm = m;
-    let mut steps = 0;
-    match a.step(&mut mm) {
-        Ok(()) => {
-            assert!(
-                mm.iter().all(|x| x.is_finite()),
-                "non-finite momentum from Ok"
-            );
-            steps += 1;
-        }
-        Err(_) => assert!(
-            mm.iter()
-                .zip(m.iter())
-                .all(|(x, y)| x == y || (x != x && y != y)),
-            "state changed on Err"
+    let r = a.step(&mut mm);
+    tally[kind(&r)] += 1;
+    match r {
+        Ok(()) => assert!(
+            mm.iter().all(|x| x.is_finite()),
+            "non-finite momentum from Ok"
         ),
+        Err(_) => assert!(same(&mm, &m), "state changed on Err"),
     }
     let s0 = State::new(m, q);
     let mut s = s0;
-    match a.step_state(&mut s) {
-        Ok(()) => {
-            assert!(
-                s.m.iter().chain(s.q.iter()).all(|x| x.is_finite()),
-                "non-finite state from Ok"
-            );
-            steps += 1;
-        }
+    let r = a.step_state(&mut s);
+    tally[kind(&r)] += 1;
+    match r {
+        Ok(()) => assert!(
+            s.m.iter().chain(s.q.iter()).all(|x| x.is_finite()),
+            "non-finite state from Ok"
+        ),
         Err(_) => assert!(
-            s.m.iter()
-                .chain(s.q.iter())
-                .zip(s0.m.iter().chain(s0.q.iter()))
-                .all(|(x, y)| x == y || (x != x && y != y)),
+            same(&s.m, &s0.m) && same(&s.q, &s0.q),
             "state changed on Err"
         ),
     }
-    steps
+    tally
 }
 
-fn all<T: Real>(r: &mut Reader, method: u8) -> u32 {
+fn all<T: Real>(r: &mut Reader, method: u8) -> Option<Tally> {
     let c = |x: f64| T::from_f64(x);
     let i = [c(r.number()), c(r.number()), c(r.number())];
+    // half the inputs through the mass matrix with |J|: most of those are valid bodies, so the
+    // integrators (not only the validation) see most inputs
     let body = if r.pick() % 2 == 0 {
         Body::from_inertia(i)
     } else {
-        Body::from_mass_matrix(i)
+        Body::from_mass_matrix(i.map(|x| x.abs()))
     };
-    let Ok(body) = body else { return 0 };
+    let Ok(body) = body else { return None };
     for x in body.inertia().iter().chain(body.mass_matrix().iter()) {
         assert!(x.is_finite() && *x >= T::ZERO, "invalid body accepted");
     }
@@ -99,7 +138,7 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> u32 {
     let h = c(r.number());
     let ms = Mv::max_step(&body, &m);
     assert!(!(ms < T::ZERO) && ms == ms, "max_step is NaN or negative");
-    match method % 11 {
+    Some(match method % 11 {
         0 => run(Mv::new(body, h), m, q),
         1 => run(SeedMv::new(body, h), m, q),
         2 => run(PreMv::new(body, h, 4 + 2 * (r.pick() % 4)), m, q),
@@ -114,25 +153,31 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> u32 {
             let mut a = Mv::new(body, h);
             let mut mm = m;
             // several steps: the tracking path after the first
-            let mut n = 0;
-            while n < 8 && a.step(&mut mm).is_ok() {
+            let mut tally = [0u32; 7];
+            for _ in 0..8 {
+                let r = a.step(&mut mm);
+                tally[kind(&r)] += 1;
+                if r.is_err() {
+                    break;
+                }
                 assert!(mm.iter().all(|x| x.is_finite()));
-                n += 1;
             }
-            n
+            tally
         }
-    }
+    })
 }
 
-/// One input for the `steps` target: any method, f32 or f64. Returns the steps taken.
-pub fn check_steps(data: &[u8]) -> u32 {
+/// One input for the `steps` target: any method, f32 or f64. Returns the method selector and
+/// the outcomes, or `None` when the bytes make no valid body (refused with a `BodyError`).
+pub fn check_steps(data: &[u8]) -> Option<(usize, Tally)> {
     let mut r = Reader::new(data);
     let method = r.pick();
-    if r.pick() % 2 == 0 {
+    let t = if r.pick() % 2 == 0 {
         all::<f64>(&mut r, method)
     } else {
         all::<f32>(&mut r, method)
-    }
+    };
+    t.map(|t| (method as usize % 11, t))
 }
 
 /// One input for the `inertia_tensor` target.

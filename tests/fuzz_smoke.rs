@@ -26,3 +26,48 @@ proptest! {
         check::check_tensor(&data);
     }
 }
+
+/// The table of the README's "Hardening" section: 200,000 seeded random inputs through the fuzz
+/// checks, outcomes by method and kind. Fails on any panic or non-finite `Ok` (inside `check`).
+#[test]
+fn tally_of_outcomes_by_method_and_kind() {
+    let mut state: u64 = 0x5eed;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut table = [[0u32; 7]; 11];
+    let (mut inputs, mut refused_bodies, mut tensors_ok) = (0u32, 0u32, 0u32);
+    for _ in 0..200_000 {
+        let len = (next() % 96) as usize;
+        let data: Vec<u8> = (0..len).map(|_| next() as u8).collect();
+        inputs += 1;
+        match check::check_steps(&data) {
+            Some((method, t)) => {
+                for k in 0..7 {
+                    table[method][k] += t[k];
+                }
+            }
+            None => refused_bodies += 1,
+        }
+        tensors_ok += check::check_tensor(&data) as u32;
+    }
+    println!("{inputs} random inputs; {refused_bodies} refused as invalid bodies (BodyError); inertia tensors accepted: {tensors_ok}");
+    println!(
+        "{:<12} {}",
+        "method",
+        check::OUTCOMES.map(|o| format!("{o:>13}")).join("")
+    );
+    for (m, row) in table.iter().enumerate() {
+        println!(
+            "{:<12} {}",
+            check::METHODS[m],
+            row.map(|x| format!("{x:>13}")).join("")
+        );
+    }
+    let total: u32 = table.iter().flatten().sum();
+    assert!(total > 100_000);
+}
