@@ -54,8 +54,6 @@ use crate::real::{c, sq, Real};
 struct Track<T> {
     /// `h / kappa`, applied to `m`.
     hn: T,
-    /// `(kappa / h)^2`: `|m|^2 = alpha (kappa / h)^2`, or zero for `h = 0`.
-    inv_hn2: T,
     /// `J / kappa`.
     j: Vec3<T>,
     /// `(J / kappa)^2`.
@@ -96,6 +94,8 @@ struct Advanced<T> {
 struct System<T> {
     t: Track<T>,
     k: Coefficients<T>,
+    /// The scale was chosen again (so quantities in scaled units changed).
+    resynced: bool,
 }
 
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
@@ -198,11 +198,6 @@ impl<T: Real> Mv<T> {
         let hn = self.h / kappa;
         let mut t = Track {
             hn,
-            inv_hn2: if hn != T::ZERO {
-                T::ONE / sq(hn)
-            } else {
-                T::ZERO
-            },
             j: jn,
             j2,
             c0: Vec3::new(j2.x + s2_0, j2.y + s2_0, j2.z + s2_0),
@@ -256,6 +251,7 @@ impl<T: Real> Mv<T> {
     /// decide existence, are those of a step that existed.
     #[inline(always)]
     fn system(&mut self, m: Vec3<T>, free_running: bool) -> Result<System<T>, StepError> {
+        let mut resynced = self.track.is_none();
         let mut t = match self.track {
             Some(t) => t,
             None => self.resync(m)?,
@@ -273,8 +269,9 @@ impl<T: Real> Mv<T> {
             // with the scale re-chosen for this m
             t = self.resync(m)?;
             k = t.coefficients(m);
+            resynced = true;
         }
-        Ok(System { t, k })
+        Ok(System { t, k, resynced })
     }
 
     /// One momentum step; returns the new momentum and, for `step_state`, `X^T`.
@@ -286,22 +283,22 @@ impl<T: Real> Mv<T> {
     /// off-diagonal `j_i M_ij - L^T_ij`.
     fn advance<const WITH_ROTATION: bool>(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
         let free_running = matches!(self.anchor, Some(a) if a.last == m);
-        let System { t, k } = self.system(m, free_running)?;
+        let System { t, k, resynced } = self.system(m, free_running)?;
         let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
         // X is orthogonal only to round-off, and that round-off is correlated along the
         // orbit, so |m|^2 would drift linearly (7.6e-12 in f64, 2e-3 in f32 after 10^6 steps
         // on the talk's case). Each step therefore scales its input back to the trajectory's
-        // |m|^2 (read off alpha = |h m / kappa|^2), to first order (exact to O(eps^2)), with no
-        // division or square root; the factor is folded into the solve. The reference is
-        // re-taken whenever the caller changed m (a filter's correction is kept, not undone).
-        let n2 = alpha * t.inv_hn2;
+        // Casimir, to first order (exact to O(eps^2)), with no division or square root; the
+        // factor is folded into the solve. The Casimir is kept in the step's scaled units,
+        // alpha = |h m / kappa|^2 (|m|^2 itself overflows f32 above 1.8e19), and re-taken when
+        // the caller changed m (a filter's correction is kept, not undone) or the scale moved.
         let anchor = match self.anchor {
-            Some(a) if free_running => a,
+            Some(a) if free_running && !resynced => a,
             _ => Anchor {
                 last: m,
-                casimir: n2,
-                half_inv: if n2 > T::ZERO {
-                    c::<T>(0.5) / n2
+                casimir: alpha,
+                half_inv: if alpha > T::ZERO {
+                    c::<T>(0.5) / alpha
                 } else {
                     T::ZERO
                 },
@@ -309,7 +306,7 @@ impl<T: Real> Mv<T> {
         };
         // the correction is tiny: it goes into the increment, never into a product with m
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp)
-        let corr = (anchor.casimir - n2) * anchor.half_inv;
+        let corr = (anchor.casimir - alpha) * anchor.half_inv;
         let fix = corr + T::ONE;
         let delta = t.delta;
         let s1 = t.s0 + delta;

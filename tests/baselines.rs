@@ -326,3 +326,64 @@ fn f32_orders() {
         .collect();
     assert!((observed_order(&hs, &e) - 4.0).abs() < 0.2, "{e:?}");
 }
+
+/// f32 overflow and underflow: the same motion at every scale (`m 10^k`, `h 10^-k`, so
+/// `h |Omega|` is fixed). Each method either agrees with its own `k = 0` result (scaled) or
+/// returns an `Err`; the range where it works is printed and bounded from below.
+#[test]
+fn f32_overflow_and_underflow_ranges() {
+    let body = Body::<f32>::from_mass_matrix(to_f32(TALK_J)).unwrap();
+    let m0 = to_f32(TALK_M0);
+    let make = |name: &str, h: f32| -> Box<dyn Integrator<f32>> {
+        match name {
+            "mv" => Box::new(Mv::new(body, h)),
+            "seed-mv" => Box::new(SeedMv::new(body, h)),
+            "splitting" => Box::new(Splitting::new(body, h)),
+            "splitting2" => Box::new(Splitting2::new(body, h)),
+            "midpoint" => Box::new(Midpoint::new(body, h)),
+            _ => Box::new(Rk4::new(body, h)),
+        }
+    };
+    for (name, lo_needed, hi_needed) in [
+        ("mv", -36, 36),
+        ("seed-mv", -36, 36),
+        ("splitting", -36, 36),
+        ("splitting2", -36, 36),
+        ("midpoint", -18, 18),
+        ("rk4", -18, 18),
+    ] {
+        let mut reference = m0;
+        make(name, 0.1).step(&mut reference).unwrap();
+        let (mut lo, mut hi) = (i32::MAX, i32::MIN);
+        for k in -38..=38 {
+            let s = 10f64.powi(k);
+            let mut m = m0.map(|x| (x as f64 * s) as f32);
+            if m.iter().any(|x| *x == 0.0 || !x.is_finite()) {
+                continue;
+            }
+            let h = (0.1 / s) as f32;
+            if !h.is_finite() || h == 0.0 {
+                continue;
+            }
+            let before = m;
+            match make(name, h).step(&mut m) {
+                Ok(()) => {
+                    assert!(m.iter().all(|x| x.is_finite()), "{name} k {k}: {m:?}");
+                    let err = (0..3)
+                        .map(|i| (m[i] as f64 / s - reference[i] as f64).abs())
+                        .fold(0.0, f64::max);
+                    if err <= 1e-4 {
+                        lo = lo.min(k);
+                        hi = hi.max(k);
+                    }
+                }
+                Err(_) => assert_eq!(m, before, "{name} k {k}: state changed"),
+            }
+        }
+        println!("{name}: f32 step correct for |m| from 1e{lo} to 1e{hi} (same motion)");
+        assert!(
+            lo <= lo_needed && hi >= hi_needed,
+            "{name}: works only from 1e{lo} to 1e{hi}"
+        );
+    }
+}
