@@ -123,6 +123,12 @@ impl<T: Real> Body<T> {
         [m[0] / i1, m[1] / i2, m[2] / i3]
     }
 
+    /// `(1/I1, 1/I2, 1/I3)`, what the explicit baselines multiply by.
+    pub(crate) fn inverse_inertia(&self) -> Vec3<T> {
+        let [i1, i2, i3] = self.inertia;
+        Vec3::new(T::ONE / i1, T::ONE / i2, T::ONE / i3)
+    }
+
     pub(crate) fn mass_matrix_vec(&self) -> Vec3<T> {
         Vec3::from_array(self.mass_matrix)
     }

@@ -100,6 +100,21 @@ pub(crate) fn compose_attitude<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
     }
 }
 
+/// Writes a step's result into the state if it is finite (`Overflow` otherwise, and the state
+/// is left as it was): the last line of every `step_state`.
+pub(crate) fn write_state<T: Real>(
+    s: &mut State<T>,
+    m: Vec3<T>,
+    q: Quat<T>,
+) -> Result<(), StepError> {
+    if !(m.is_finite() && q.is_finite()) {
+        return Err(StepError::Overflow);
+    }
+    s.m = m.to_array();
+    s.q = q.to_array();
+    Ok(())
+}
+
 /// Checks a momentum before a step.
 pub(crate) fn checked_momentum<T: Real>(m: &[T; 3]) -> Result<Vec3<T>, StepError> {
     let v = Vec3::from_array(*m);

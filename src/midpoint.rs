@@ -2,7 +2,9 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, Real};
 
@@ -43,9 +45,8 @@ pub struct Midpoint<T> {
 impl<T: Real> Midpoint<T> {
     /// A Newton-solved implicit midpoint integrator for `body` with step `h`.
     pub fn new(body: Body<T>, h: T) -> Self {
-        let i = body.inertia();
         Self {
-            inv_i: Vec3::new(T::ONE / i[0], T::ONE / i[1], T::ONE / i[2]),
+            inv_i: body.inverse_inertia(),
             h,
             solver: Solver::Newton,
             iterations: 0,
@@ -145,13 +146,7 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
             y: c::<T>(2.0) * w.y * inv,
             z: c::<T>(2.0) * w.z * inv,
         };
-        let q_next = compose_attitude(q, dq);
-        if !next.is_finite() || !q_next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        s.m = next.to_array();
-        s.q = q_next.to_array();
-        Ok(())
+        write_state(s, next, compose_attitude(q, dq))
     }
 
     fn step_size(&self) -> T {

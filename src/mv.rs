@@ -33,7 +33,9 @@
 use crate::body::Body;
 use crate::cubic::{quartic_largest_root, solve_cubic, CubicRoots};
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
 
@@ -574,14 +576,11 @@ impl<T: Real> Integrator<T> for Mv<T> {
             None => return Err(StepError::Degenerate),
         };
         let next = step.next;
-        let q_next = compose_attitude(q, Quat::from_mat3(&x));
-        if !q_next.is_finite() || !next.is_finite() {
+        let r = write_state(s, next, compose_attitude(q, Quat::from_mat3(&x)));
+        if r.is_err() {
             (self.track, self.anchor) = saved;
-            return Err(StepError::Overflow);
         }
-        s.m = next.to_array();
-        s.q = q_next.to_array();
-        Ok(())
+        r
     }
 
     fn step_size(&self) -> T {

@@ -5,7 +5,9 @@
 use crate::body::Body;
 use crate::cubic::{complex_sqrt, solve_cubic, CubicRoots};
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
 
@@ -250,13 +252,7 @@ impl<T: Real> Integrator<T> for SeedMv<T> {
         let (v, q) = checked_state(s)?;
         let x = self.solve(v)?;
         let next = x.transpose_mul_vec(v);
-        let q_next = compose_attitude(q, Quat::from_mat3(&x));
-        if !next.is_finite() || !q_next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        s.m = next.to_array();
-        s.q = q_next.to_array();
-        Ok(())
+        write_state(s, next, compose_attitude(q, Quat::from_mat3(&x)))
     }
 
     fn step_size(&self) -> T {

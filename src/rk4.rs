@@ -2,7 +2,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, Integrator, State};
+use crate::integrator::{checked_momentum, checked_state, write_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
 
@@ -23,9 +23,8 @@ pub struct Rk4<T> {
 impl<T: Real> Rk4<T> {
     /// An RK4 integrator for `body` with step `h`.
     pub fn new(body: Body<T>, h: T) -> Self {
-        let i = body.inertia();
         Self {
-            inv_i: Vec3::new(T::ONE / i[0], T::ONE / i[1], T::ONE / i[2]),
+            inv_i: body.inverse_inertia(),
             h,
         }
     }
@@ -107,12 +106,10 @@ impl<T: Real> Integrator<T> for Rk4<T> {
             l4,
         );
         let (q_next, ok) = q_next.normalize();
-        if !next.is_finite() || !ok {
+        if !ok {
             return Err(StepError::Overflow);
         }
-        s.m = next.to_array();
-        s.q = q_next.to_array();
-        Ok(())
+        write_state(s, next, q_next)
     }
 
     fn step_size(&self) -> T {

@@ -114,9 +114,8 @@ pub struct Splitting<T> {
 impl<T: Real> Splitting<T> {
     /// A splitting integrator for `body` with step `h`.
     pub fn new(body: Body<T>, h: T) -> Self {
-        let i = body.inertia();
         Self {
-            inv_i: Vec3::new(T::ONE / i[0], T::ONE / i[1], T::ONE / i[2]),
+            inv_i: body.inverse_inertia(),
             h,
         }
     }

@@ -2,21 +2,10 @@
 //! and each degenerate case where the talk's algorithm (`SeedMv`) refuses or fails.
 
 use rigid3::{Body, Integrator, Mv, SeedMv, State, StepError};
-use rigid3_lab::general::dmv_x3;
+mod common;
 
-struct Rng(u64);
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
+use common::Rng;
+use rigid3_lab::general::dmv_x3;
 
 /// Max difference of momentum (relative to |m|) and of the rotation X between one `Mv` step
 /// and the general solver.
