@@ -19,3 +19,14 @@ ensure_qemu() {
     fi
   fi
 }
+
+ensure_font() {
+  # the lab's charts draw their text with DejaVu Sans (ab_glyph, no fontconfig)
+  if [ -z "${RIGID3_FONT:-}" ] && [ ! -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ]; then
+    if [ "$(id -u)" = 0 ]; then
+      apt-get update && apt-get install -y fonts-dejavu-core
+    else
+      sudo apt-get update && sudo apt-get install -y fonts-dejavu-core
+    fi
+  fi
+}

@@ -3,9 +3,12 @@
 //! Independent reference solvers (the general-N Cardoso–Leite DMV solver), the method
 //! registry used by the CLI, and the experiments behind the README's tables.
 
+pub mod atlas;
 pub mod bench_table;
+pub mod claims;
 pub mod count;
 pub mod demo;
+pub mod figures;
 pub mod flops;
 pub mod general;
 pub mod methods;

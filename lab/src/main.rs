@@ -62,6 +62,14 @@ enum Command {
         #[arg(long, default_value_t = 10.0)]
         t: f64,
     },
+    /// Every chart of the README (figures 1-8, SVG and PNG), then the talk's claims table.
+    Figures {
+        /// Output folder.
+        #[arg(long, default_value = "figures")]
+        out: std::path::PathBuf,
+    },
+    /// The talk's claims next to our measurements, and the headline comparison.
+    Claims,
     /// Counted flops per step of every method (the counting `Real`).
     Flops {
         /// Step size.
@@ -155,6 +163,27 @@ fn main() -> ExitCode {
         }
         Command::Flops { h } => {
             rigid3_lab::flops::print_table(h);
+            ExitCode::SUCCESS
+        }
+        Command::Figures { out } => match rigid3_lab::figures::all(&out) {
+            Ok((files, measured)) => {
+                println!();
+                rigid3_lab::claims::print(&measured);
+                println!();
+                println!(
+                    "{} files written to {}/ (fig1..fig8, .svg and .png)",
+                    files.len(),
+                    out.display()
+                );
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Command::Claims => {
+            rigid3_lab::claims::print(&rigid3_lab::claims::measure());
             ExitCode::SUCCESS
         }
         Command::Demo => {
