@@ -247,7 +247,7 @@ pub fn quartic_largest_root<T: Real>(big_a: T, big_b: T, s3: T) -> Option<T> {
 
 /// Value and derivative of the DMV quartic at `s`.
 #[inline]
-pub(crate) fn quartic_eval<T: Real>(s: T, big_a: T, big_b: T, s3: T) -> (T, T) {
+fn quartic_eval<T: Real>(s: T, big_a: T, big_b: T, s3: T) -> (T, T) {
     let u = sq(s) - big_a;
     let q = sq(u) - c::<T>(8.0) * s3 * s - c::<T>(4.0) * big_b;
     let dq = c::<T>(4.0) * s * u - c::<T>(8.0) * s3;

@@ -86,10 +86,10 @@ struct Track<T> {
     newton_tol: T,
 }
 
-/// The new momentum and, when asked for, `X^T` with the Casimir factor applied to the input.
+/// The new momentum and, when asked for, `X^T`.
 struct Advanced<T> {
     next: Vec3<T>,
-    rotation: Option<(Mat3<T>, T)>,
+    rotation: Option<Mat3<T>>,
 }
 
 /// What one step needs from the tracking: the updated data and the coefficients of this `m`.
@@ -351,7 +351,7 @@ impl<T: Real> Mv<T> {
         let rotation = if WITH_ROTATION {
             // X^T = (D + J M) L^-T = I + Delta L^-T, and (L^T)^-1 has the rows r_i / det
             let linv_t = Mat3::from_cols(r0, r1, r2).transpose().scale(inv_det);
-            Some((Mat3::identity().add(&delta_m.mul_mat(&linv_t)), fix))
+            Some(Mat3::identity().add(&delta_m.mul_mat(&linv_t)))
         } else {
             None
         };
@@ -572,7 +572,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
         let saved = (self.track, self.anchor);
         let step = self.advance::<true>(v)?;
         let x = match step.rotation {
-            Some((xt, _)) => complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
+            Some(xt) => complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
             None => return Err(StepError::Degenerate),
         };
         let next = step.next;

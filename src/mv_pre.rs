@@ -73,11 +73,17 @@ impl<T: Real> PreMv<T> {
         modified_inertia(&self.body, self.h, self.order, m)
     }
 
+    /// True while `m` is the momentum this integrator returned last (its modified body and
+    /// tracking still apply).
+    pub(crate) fn follows(&self, m: &[T; 3]) -> bool {
+        self.last == Some(*m)
+    }
+
     /// Makes `self.mv` the `Mv` of this trajectory: kept while `m` is the momentum returned
     /// last, built again otherwise.
     #[inline(always)]
     fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
-        if self.last != Some(*m) {
+        if !self.follows(m) {
             self.rebuild(m)?;
         }
         Ok(())

@@ -34,10 +34,8 @@ pub struct RetimedMv<T> {
     body: Body<T>,
     h: T,
     order: u8,
-    /// The DMV with the retimed step, stepped in place...
+    /// The DMV with the retimed step, stepped in place; valid while it follows the momentum.
     inner: PreMv<T>,
-    /// ...valid while the momentum is the one it returned last.
-    last: Option<[T; 3]>,
 }
 
 impl<T: Real> RetimedMv<T> {
@@ -48,7 +46,6 @@ impl<T: Real> RetimedMv<T> {
             h,
             order,
             inner: PreMv::new(body, h, order),
-            last: None,
         }
     }
 
@@ -59,7 +56,7 @@ impl<T: Real> RetimedMv<T> {
 
     #[inline(always)]
     fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
-        if self.last != Some(*m) {
+        if !self.inner.follows(m) {
             self.rebuild(m)?;
         }
         Ok(())
@@ -139,16 +136,12 @@ fn retime<T: Real>(body: &Body<T>, h: T, order: u8, m: &[T; 3]) -> Result<T, Ste
 impl<T: Real> Integrator<T> for RetimedMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         self.prepare(m)?;
-        self.inner.step(m)?;
-        self.last = Some(*m);
-        Ok(())
+        self.inner.step(m)
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         self.prepare(&s.m)?;
-        self.inner.step_state(s)?;
-        self.last = Some(s.m);
-        Ok(())
+        self.inner.step_state(s)
     }
 
     fn step_size(&self) -> T {

@@ -10,7 +10,9 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
 
@@ -167,12 +169,7 @@ impl<T: Real> Integrator<T> for Splitting<T> {
         let (v, q) = rotate_state(v, q, 2, w.z, h);
         let (v, q) = rotate_state(v, q, 1, w.y, hh);
         let (v, q) = rotate_state(v, q, 0, w.x, hh);
-        if !q.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        s.m = finish(v)?;
-        s.q = q.to_array();
-        Ok(())
+        write_state(s, v, q)
     }
 
     fn step_size(&self) -> T {
@@ -275,12 +272,7 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
         } else {
             q
         };
-        if !q.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        s.m = finish(v)?;
-        s.q = q.to_array();
-        Ok(())
+        write_state(s, v, q)
     }
 
     fn step_size(&self) -> T {

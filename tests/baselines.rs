@@ -14,12 +14,7 @@ fn talk_body() -> Body<f64> {
 }
 
 fn error_at_10(make: &dyn Fn(f64) -> Box<dyn Integrator<f64>>, h: f64) -> f64 {
-    let mut a = make(h);
-    let mut m = TALK_M0;
-    for _ in 0..(10.0 / h).round() as usize {
-        a.step(&mut m).unwrap();
-    }
-    dist(m, TALK_M10)
+    talk_error_at_10(make(h).as_mut(), h)
 }
 
 /// Observed order over `hs` and the error constant `err / h^p` at the smallest step.
@@ -293,13 +288,7 @@ fn no_method_returns_nan_or_panics_on_bad_input() {
 #[test]
 fn f32_orders() {
     let b = Body::<f32>::from_mass_matrix(to_f32(TALK_J)).unwrap();
-    let run = |a: &mut dyn Integrator<f32>, h: f64| {
-        let mut m = to_f32(TALK_M0);
-        for _ in 0..(10.0 / h).round() as usize {
-            a.step(&mut m).unwrap();
-        }
-        dist(to_f64(m), TALK_M10)
-    };
+    let run = talk_error_at_10::<f32>;
     let hs = [0.2, 0.1, 0.05];
     let e: Vec<f64> = hs
         .iter()

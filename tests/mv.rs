@@ -55,14 +55,7 @@ fn talk_case_is_second_order_with_the_published_constant() {
     let hs: Vec<f64> = (3..8).map(|k| 0.5f64.powi(k)).collect();
     let errs: Vec<f64> = hs
         .iter()
-        .map(|&h| {
-            let mut mv = Mv::new(body, h);
-            let mut m = TALK_M0;
-            for _ in 0..(10.0 / h).round() as usize {
-                mv.step(&mut m).unwrap();
-            }
-            dist(m, TALK_M10)
-        })
+        .map(|&h| talk_error_at_10(&mut Mv::new(body, h), h))
         .collect();
     let p = observed_order(&hs, &errs);
     assert!((p - 2.0).abs() <= 0.05, "order {p}");
@@ -420,14 +413,7 @@ fn f32_order_and_limits() {
     let hs = [0.2f64, 0.1, 0.05];
     let errs: Vec<f64> = hs
         .iter()
-        .map(|&h| {
-            let mut mv = Mv::new(body, h as f32);
-            let mut m = to_f32(TALK_M0);
-            for _ in 0..(10.0 / h).round() as usize {
-                mv.step(&mut m).unwrap();
-            }
-            dist(to_f64(m), TALK_M10)
-        })
+        .map(|&h| talk_error_at_10(&mut Mv::new(body, h as f32), h))
         .collect();
     let p = observed_order(&hs, &errs);
     assert!((p - 2.0).abs() <= 0.05, "f32 order {p}");

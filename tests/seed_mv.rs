@@ -13,22 +13,13 @@ fn talk_body() -> Body<f64> {
     Body::from_mass_matrix(TALK_J).unwrap()
 }
 
-fn run(h: f64, steps: usize) -> [f64; 3] {
-    let mut dmv = SeedMv::new(talk_body(), h);
-    let mut m = TALK_M0;
-    for _ in 0..steps {
-        dmv.step(&mut m).unwrap();
-    }
-    m
-}
-
 #[test]
 fn talk_case_is_second_order_with_the_published_constant() {
     let ks = [3, 4, 5, 6, 7];
     let hs: Vec<f64> = ks.iter().map(|&k| 0.5f64.powi(k)).collect();
     let errs: Vec<f64> = hs
         .iter()
-        .map(|&h| dist(run(h, (10.0 / h).round() as usize), TALK_M10))
+        .map(|&h| talk_error_at_10(&mut SeedMv::new(talk_body(), h), h))
         .collect();
     let p = observed_order(&hs, &errs);
     assert!((p - 2.0).abs() <= 0.05, "order {p}, errors {errs:?}");
@@ -242,14 +233,7 @@ fn f32_talk_case_order_and_invariants() {
     let hs = [0.2f64, 0.1, 0.05];
     let errs: Vec<f64> = hs
         .iter()
-        .map(|&h| {
-            let mut dmv = SeedMv::new(body, h as f32);
-            let mut m = to_f32(TALK_M0);
-            for _ in 0..(10.0 / h).round() as usize {
-                dmv.step(&mut m).unwrap();
-            }
-            dist(to_f64(m), TALK_M10)
-        })
+        .map(|&h| talk_error_at_10(&mut SeedMv::new(body, h as f32), h))
         .collect();
     let p = observed_order(&hs, &errs);
     assert!((p - 2.0).abs() <= 0.05, "f32 order {p}");

@@ -100,6 +100,16 @@ pub fn to_f64(a: [f32; 3]) -> [f64; 3] {
     [a[0] as f64, a[1] as f64, a[2] as f64]
 }
 
+/// `|m(10) - m_ref(10)|` on the talk's case: `a` (momentum only) stepped from `TALK_M0` to
+/// t = 10 with step `h`, in any precision.
+pub fn talk_error_at_10<T: rigid3::Real>(a: &mut dyn rigid3::Integrator<T>, h: f64) -> f64 {
+    let mut m = TALK_M0.map(T::from_f64);
+    for _ in 0..(10.0 / h).round() as usize {
+        a.step(&mut m).unwrap();
+    }
+    dist(m.map(|x| x.to_f64()), TALK_M10)
+}
+
 /// Least-squares slope of log(err) against log(h): the observed order.
 pub fn observed_order(hs: &[f64], errs: &[f64]) -> f64 {
     let n = hs.len() as f64;

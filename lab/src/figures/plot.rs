@@ -232,6 +232,15 @@ fn superscript(k: i64) -> String {
     s
 }
 
+/// Tick label of a log axis (a superscript power of ten) or a linear one.
+fn axis_label(log: bool, v: f64) -> String {
+    if log {
+        decade_label(v)
+    } else {
+        linear_label(v)
+    }
+}
+
 fn decade_label(v: f64) -> String {
     if (v - v.round()).abs() < 1e-9 {
         superscript(v.round() as i64)
@@ -372,20 +381,8 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Lines) -> R<DB> 
         .x_label_area_size(48)
         .y_label_area_size(72)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
-    let xf = |v: &f64| {
-        if p.x_log {
-            decade_label(*v)
-        } else {
-            linear_label(*v)
-        }
-    };
-    let yf = |v: &f64| {
-        if p.y_log {
-            decade_label(*v)
-        } else {
-            linear_label(*v)
-        }
-    };
+    let xf = |v: &f64| axis_label(p.x_log, *v);
+    let yf = |v: &f64| axis_label(p.y_log, *v);
     chart
         .configure_mesh()
         .x_desc(&p.x_label)
@@ -508,13 +505,7 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Bars) -> R<DB> {
             String::new()
         }
     };
-    let yf = |v: &f64| {
-        if p.y_log {
-            decade_label(*v)
-        } else {
-            linear_label(*v)
-        }
-    };
+    let yf = |v: &f64| axis_label(p.y_log, *v);
     chart
         .configure_mesh()
         .disable_x_mesh()
