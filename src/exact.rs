@@ -468,12 +468,6 @@ impl<T: Real> Exact<T> {
         }
     }
 
-    /// Changes the step size (the trajectory is set up again on the next step).
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
-        self.cache = None;
-    }
-
     /// The exact state at time `t` (any sign) from `s0`. The quaternion is continuous in `t`
     /// and equals `s0.q` (normalised) at `t = 0`.
     pub fn at(body: &Body<T>, s0: &State<T>, t: T) -> Result<State<T>, StepError> {
@@ -565,6 +559,19 @@ impl<T: Real> Integrator<T> for Exact<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+        self.cache = None;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
+    }
+
+    fn reset(&mut self) {
+        self.cache = None;
     }
 }
 

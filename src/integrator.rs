@@ -1,5 +1,6 @@
 //! The common interface of every method, and the full state.
 
+use crate::body::Body;
 use crate::error::StepError;
 use crate::linalg::{Quat, Vec3};
 use crate::real::Real;
@@ -46,6 +47,18 @@ pub trait Integrator<T> {
 
     /// The step size `h`.
     fn step_size(&self) -> T;
+
+    /// Changes the step size. Integrators that keep per-trajectory data decide what survives
+    /// (`Mv` keeps its tracked root across small changes); nothing is checked here: an invalid
+    /// `h` is refused by the next step.
+    fn set_step_size(&mut self, h: T);
+
+    /// The body being integrated (for [`crate::PreMv`] the true body, not the modified one).
+    fn body(&self) -> &Body<T>;
+
+    /// Forgets per-trajectory data (tracked roots, caches), so the next step starts afresh as
+    /// after construction. Integrators without such data do nothing.
+    fn reset(&mut self) {}
 }
 
 /// Checks a state before a step: finite entries and a non-zero quaternion. Returns the

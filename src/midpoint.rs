@@ -36,6 +36,7 @@ pub enum Solver {
 /// conserved only to the order of the method.
 #[derive(Clone, Copy, Debug)]
 pub struct Midpoint<T> {
+    body: Body<T>,
     inv_i: Vec3<T>,
     h: T,
     solver: Solver,
@@ -46,6 +47,7 @@ impl<T: Real> Midpoint<T> {
     /// A Newton-solved implicit midpoint integrator for `body` with step `h`.
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
+            body,
             inv_i: body.inverse_inertia(),
             h,
             solver: Solver::Newton,
@@ -59,11 +61,6 @@ impl<T: Real> Midpoint<T> {
             solver,
             ..Self::new(body, h)
         }
-    }
-
-    /// Changes the step size.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
     }
 
     /// Iterations the last step took (whether it converged or not).
@@ -151,5 +148,13 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
     }
 }

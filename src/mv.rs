@@ -54,6 +54,8 @@ use crate::real::{c, sq, Real};
 /// every term of which is small when `h` is (MATH.md §4's quartic minus its value at `h = 0`).
 #[derive(Clone, Copy, Debug)]
 struct Track<T> {
+    /// The scale `kappa`, chosen at the exact solve (`max(J_max, h |m|)`).
+    kappa: T,
     /// `h / kappa`, applied to `m`.
     hn: T,
     /// `J / kappa`.
@@ -124,6 +126,9 @@ pub struct Mv<T> {
     h: T,
     track: Option<Track<T>>,
     anchor: Option<Anchor<T>>,
+    /// The step size changed since the last step: the next step checks existence even when
+    /// `m` is the momentum returned last.
+    recheck: bool,
 }
 
 /// The Casimir the trajectory must keep: taken from the input whenever it is not the
@@ -131,9 +136,51 @@ pub struct Mv<T> {
 #[derive(Clone, Copy, Debug)]
 struct Anchor<T> {
     last: Vec3<T>,
+    /// The Casimir in the step's scaled units, `|h m / kappa|^2`, for the current `h`.
     casimir: T,
     /// `1 / (2 casimir)`, or zero for `m = 0`.
     half_inv: T,
+    /// The Casimir in units of the scale alone, `|m / kappa|^2`: what a change of `h` rescales
+    /// (`casimir = unscaled (h / kappa)^2`). Rescaling `casimir` itself at every change would
+    /// round it each time and let it random-walk under a jittering step; this is rounded once.
+    unscaled: T,
+}
+
+impl<T: Real> Anchor<T> {
+    /// The anchor for momentum `m` with `alpha = |hn m|^2`.
+    fn take(m: Vec3<T>, alpha: T, hn: T) -> Self {
+        let hn2 = sq(hn);
+        let unscaled = if hn2 > T::ZERO { alpha / hn2 } else { T::ZERO };
+        Self {
+            last: m,
+            casimir: alpha,
+            half_inv: if alpha > T::ZERO {
+                c::<T>(0.5) / alpha
+            } else {
+                T::ZERO
+            },
+            unscaled: if unscaled.is_finite() {
+                unscaled
+            } else {
+                T::ZERO
+            },
+        }
+    }
+
+    /// The same Casimir for the scaled step `hn`.
+    fn rescaled(self, hn: T) -> Self {
+        let casimir = self.unscaled * sq(hn);
+        let half_inv = if casimir > T::ZERO && casimir.is_finite() {
+            c::<T>(0.5) / casimir
+        } else {
+            T::ZERO
+        };
+        Self {
+            casimir: if half_inv > T::ZERO { casimir } else { T::ZERO },
+            half_inv,
+            ..self
+        }
+    }
 }
 
 impl<T: Real> Mv<T> {
@@ -144,25 +191,8 @@ impl<T: Real> Mv<T> {
             h,
             track: None,
             anchor: None,
+            recheck: false,
         }
-    }
-
-    /// Changes the step size; `s1` is solved again on the next step.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
-        self.track = None;
-    }
-
-    /// Forgets the tracked `s1` so the next step solves for it exactly (after a reset of the
-    /// state; not needed for small corrections, which the tracking absorbs).
-    pub fn reset(&mut self) {
-        self.track = None;
-        self.anchor = None;
-    }
-
-    /// The body.
-    pub fn body(&self) -> &Body<T> {
-        &self.body
     }
 
     /// The largest `|h|` for which the DMV step from `m` exists (the cubic of MATH.md §3 keeps
@@ -199,6 +229,7 @@ impl<T: Real> Mv<T> {
         let s2_0 = jn.x * jn.y + jn.x * jn.z + jn.y * jn.z;
         let hn = self.h / kappa;
         let mut t = Track {
+            kappa,
             hn,
             j: jn,
             j2,
@@ -218,14 +249,34 @@ impl<T: Real> Mv<T> {
         if !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
+        // the first term of delta's series in h^2 (g linearised at delta = 0; the
+        // denominator is 8 I1 I2 I3 in scaled units), then guarded Newton: no transcendental
+        // call in the common regime, where h |Omega| is small
+        let lin = t.two_u0 * (t.two_s0 + t.two_s0) - t.s3x8;
+        if lin > T::ZERO {
+            t.delta = -(t.two_u0 * k.sum_a + c::<T>(4.0) * k.beta) / lin;
+            if t.newton(&k) {
+                return Ok(t);
+            }
+        }
+        self.solve_exactly(t, &k)
+    }
+
+    /// The exact solve of the quartic (cubic roots with `acos`/`cos`/`cbrt`), polished on the
+    /// cancellation-free `g`: the fallback when Newton from the series cannot be trusted
+    /// (`h |Omega|` of order one).
+    #[cold]
+    #[inline(never)]
+    fn solve_exactly(&self, mut t: Track<T>, k: &Coefficients<T>) -> Result<Track<T>, StepError> {
+        let s0 = t.s0;
         let s1 = quartic_largest_root(k.big_a, k.big_b, t.s3).ok_or(StepError::StepTooLarge)?;
         // polish delta on the cancellation-free g: s1 - s0 has only absolute accuracy
         let mut delta = s1 - s0;
-        let (mut g, mut dg) = t.g(delta, &k);
+        let (mut g, mut dg) = t.g(delta, k);
         let mut it = 0;
         while it < 4 && dg > T::ZERO && g != T::ZERO {
             let next = delta - g / dg;
-            let (gn, dgn) = t.g(next, &k);
+            let (gn, dgn) = t.g(next, k);
             if !(gn.abs() < g.abs()) {
                 break;
             }
@@ -264,11 +315,13 @@ impl<T: Real> Mv<T> {
         }
         let (g, _) = t.g_only(t.delta, &k);
         let correction = g * t.inv_dg;
-        if correction.abs() <= t.newton_tol {
+        // the stale derivative of a chord step is good enough only while the invariants
+        // stay put (free running); after an outside change of m or h, Newton
+        if free_running && correction.abs() <= t.newton_tol {
             t.delta -= correction;
-        } else {
-            // the invariants moved (the caller changed m, or the first step): solve exactly,
-            // with the scale re-chosen for this m
+        } else if !t.newton(&k) {
+            // far from the tracked root (a large change of m or h): solve exactly, with the
+            // scale re-chosen for this m
             t = self.resync(m)?;
             k = t.coefficients(m);
             resynced = true;
@@ -284,8 +337,8 @@ impl<T: Real> Mv<T> {
     /// addition rounds `m`. `Delta`'s diagonal is `delta j_i - (s2 - s2_0) - a_i + |mm|^2`, its
     /// off-diagonal `j_i M_ij - L^T_ij`.
     fn advance<const WITH_ROTATION: bool>(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
-        let free_running = matches!(self.anchor, Some(a) if a.last == m);
-        let System { t, k, resynced } = self.system(m, free_running)?;
+        let follows = matches!(self.anchor, Some(a) if a.last == m);
+        let System { t, k, resynced } = self.system(m, follows && !self.recheck)?;
         let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
         // X is orthogonal only to round-off, and that round-off is correlated along the
         // orbit, so |m|^2 would drift linearly (7.6e-12 in f64, 2e-3 in f32 after 10^6 steps
@@ -295,16 +348,8 @@ impl<T: Real> Mv<T> {
         // alpha = |h m / kappa|^2 (|m|^2 itself overflows f32 above 1.8e19), and re-taken when
         // the caller changed m (a filter's correction is kept, not undone) or the scale moved.
         let anchor = match self.anchor {
-            Some(a) if free_running && !resynced => a,
-            _ => Anchor {
-                last: m,
-                casimir: alpha,
-                half_inv: if alpha > T::ZERO {
-                    c::<T>(0.5) / alpha
-                } else {
-                    T::ZERO
-                },
-            },
+            Some(a) if follows && !resynced => a,
+            _ => Anchor::take(m, alpha, t.hn),
         };
         // the correction is tiny: it goes into the increment, never into a product with m
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp)
@@ -356,6 +401,7 @@ impl<T: Real> Mv<T> {
             None
         };
         self.track = Some(t);
+        self.recheck = false;
         self.anchor = Some(Anchor {
             last: next,
             ..anchor
@@ -401,6 +447,52 @@ impl<T: Real> Track<T> {
         let eps_u = self.two_s0 * delta + sq(delta) + k.sum_a;
         let g = self.two_u0 * eps_u + sq(eps_u) - self.s3x8 * delta + c::<T>(4.0) * k.beta;
         (g, eps_u)
+    }
+
+    /// Newton's method on `g` from the tracked `delta`, to the largest root: `true` with
+    /// `delta` and `inv_dg` updated, or `false` (nothing trusted) when an iterate leaves the
+    /// region where convergence to the largest root is guaranteed, or after 12 iterations.
+    ///
+    /// Why it is safe: in `s = s1_0 + delta` the quartic `q(s) = (s^2 - A)^2 - 8 s3 s - 4 B`
+    /// has `q'' = 12 s^2 - 4 A`, so it is convex for `3 s^2 > A`, and every real root lies
+    /// either left of that region or in it, where there are at most two. At an iterate with
+    /// `s > 0`, `3 s^2 > A` and `q'(s) > 0`, either `q(s) > 0` (then `s` is right of every
+    /// root and Newton descends monotonically onto the largest) or `q(s) < 0` (then the one
+    /// root to its right is the largest, and the convex tangent step lands right of it).
+    /// Each iteration costs one division; from a tracked value after a small change of `m`
+    /// or `h` it takes one or two, from the series at small `h |Omega|` two to four.
+    #[inline(never)]
+    fn newton(&mut self, k: &Coefficients<T>) -> bool {
+        let mut delta = self.delta;
+        let mut it = 0;
+        while it < 12 {
+            let s = self.s0 + delta;
+            if !(s > T::ZERO && c::<T>(3.0) * sq(s) > k.big_a) {
+                return false;
+            }
+            let (g, dg) = self.g(delta, k);
+            if !(dg > T::ZERO) || !g.is_finite() {
+                return false;
+            }
+            let inv_dg = T::ONE / dg;
+            let step = g * inv_dg;
+            delta -= step;
+            if step.abs() <= self.newton_tol {
+                // quadratic convergence leaves about step^2 / s1, which is round-off of s1
+                // but not of delta = O(h^2); one chord step with this derivative (no
+                // division) takes delta to round-off too
+                let (g, _) = self.g_only(delta, k);
+                delta -= g * inv_dg;
+                if !delta.is_finite() {
+                    return false;
+                }
+                self.delta = delta;
+                self.inv_dg = inv_dg;
+                return true;
+            }
+            it += 1;
+        }
+        false
     }
 
     /// `g(delta)` and `g'(delta)`.
@@ -585,6 +677,42 @@ impl<T: Real> Integrator<T> for Mv<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        let old = self.h;
+        self.h = h;
+        self.recheck = true;
+        let near = h.is_finite()
+            && old != T::ZERO
+            && h.abs() <= old.abs() * c::<T>(2.0)
+            && old.abs() <= h.abs() * c::<T>(2.0);
+        match self.track.as_mut() {
+            Some(t) if near => {
+                let hn = h / t.kappa;
+                let r = hn / t.hn;
+                t.hn = hn;
+                t.delta *= sq(r);
+                if let Some(a) = self.anchor.as_mut() {
+                    *a = a.rescaled(hn);
+                }
+            }
+            _ => {
+                self.track = None;
+            }
+        }
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
+    }
+
+    /// Forgets the tracked `s1` and the Casimir anchor, so the next step solves for `s1`
+    /// afresh (after a reset of the state; not needed for corrections, which the tracking
+    /// absorbs).
+    fn reset(&mut self) {
+        self.track = None;
+        self.anchor = None;
     }
 }
 

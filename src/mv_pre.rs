@@ -62,12 +62,6 @@ impl<T: Real> PreMv<T> {
         self.order
     }
 
-    /// Changes the step size; the modified moments are computed again at the next step.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
-        self.last = None;
-    }
-
     /// The modified principal moments `I~` for momentum `m` (MATH.md §5).
     pub fn modified_inertia(&self, m: &[T; 3]) -> Result<[T; 3], StepError> {
         modified_inertia(&self.body, self.h, self.order, m)
@@ -120,6 +114,20 @@ impl<T: Real> Integrator<T> for PreMv<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+        self.last = None;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
+    }
+
+    fn reset(&mut self) {
+        self.last = None;
+        self.mv.reset();
     }
 }
 

@@ -147,4 +147,18 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
     fn step_size(&self) -> T {
         self.h
     }
+
+    /// Changes the step size; the retimed step is solved again at the next step.
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+        self.inner.reset();
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
+    }
+
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
 }

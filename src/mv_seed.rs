@@ -44,16 +44,6 @@ impl<T: Real> SeedMv<T> {
         Self { body, h }
     }
 
-    /// Changes the step size.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
-    }
-
-    /// The body.
-    pub fn body(&self) -> &Body<T> {
-        &self.body
-    }
-
     /// The rotation `X` of one step from momentum `m`, as rows (`X[i][j]`), for checks.
     pub fn step_matrix(&self, m: &[T; 3]) -> Result<[[T; 3]; 3], StepError> {
         let x = self.solve(checked_momentum(m)?)?;
@@ -257,5 +247,13 @@ impl<T: Real> Integrator<T> for SeedMv<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
     }
 }

@@ -16,6 +16,7 @@ use crate::real::{c, Real};
 /// `StepError::Overflow` and leaves the state as it was.
 #[derive(Clone, Copy, Debug)]
 pub struct Rk4<T> {
+    body: Body<T>,
     inv_i: Vec3<T>,
     h: T,
 }
@@ -24,14 +25,10 @@ impl<T: Real> Rk4<T> {
     /// An RK4 integrator for `body` with step `h`.
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
+            body,
             inv_i: body.inverse_inertia(),
             h,
         }
-    }
-
-    /// Changes the step size.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
     }
 
     #[inline]
@@ -114,5 +111,13 @@ impl<T: Real> Integrator<T> for Rk4<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
     }
 }

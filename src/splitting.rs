@@ -109,6 +109,7 @@ fn finish<T: Real>(m: Vec3<T>) -> Result<[T; 3], StepError> {
 /// inaccurate, with no warning: there is no stability limit to report.
 #[derive(Clone, Copy, Debug)]
 pub struct Splitting<T> {
+    body: Body<T>,
     inv_i: Vec3<T>,
     h: T,
 }
@@ -117,14 +118,10 @@ impl<T: Real> Splitting<T> {
     /// A splitting integrator for `body` with step `h`.
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
+            body,
             inv_i: body.inverse_inertia(),
             h,
         }
-    }
-
-    /// Changes the step size.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
     }
 
     /// `n` steps at once with the half steps of consecutive steps merged:
@@ -175,6 +172,14 @@ impl<T: Real> Integrator<T> for Splitting<T> {
     fn step_size(&self) -> T {
         self.h
     }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
+    }
 }
 
 /// McLachlan's splitting with the Casimir split off (order 2): `E = c |m|^2 / 2 + E_a + E_b`
@@ -188,6 +193,7 @@ impl<T: Real> Integrator<T> for Splitting<T> {
 /// [`Splitting`] (MATH.md §7; the other five arrangements give `0.0043` to `0.032`).
 #[derive(Clone, Copy, Debug)]
 pub struct Splitting2<T> {
+    body: Body<T>,
     /// `1/I_i - 1/I_k` for the two rotating axes, in the order (a, b, k).
     w: Vec3<T>,
     axes: [usize; 3],
@@ -216,16 +222,12 @@ impl<T: Real> Splitting2<T> {
         };
         let ck = T::ONE / moment(k);
         Self {
+            body,
             w: Vec3::new(T::ONE / moment(a) - ck, T::ONE / moment(b) - ck, T::ZERO),
             axes: [a, b, k],
             c: ck,
             h,
         }
-    }
-
-    /// Changes the step size.
-    pub fn set_step(&mut self, h: T) {
-        self.h = h;
     }
 }
 
@@ -277,5 +279,13 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
 
     fn step_size(&self) -> T {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
     }
 }

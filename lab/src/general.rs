@@ -505,12 +505,14 @@ mod tests {
 pub struct GeneralDmv {
     j: [f64; 3],
     h: f64,
+    body: rigid3::Body<f64>,
 }
 
 impl GeneralDmv {
-    /// The DMV step for mass matrix `j` and step `h`.
+    /// The DMV step for mass matrix `j` (a valid one: non-negative entries) and step `h`.
     pub fn new(j: [f64; 3], h: f64) -> Self {
-        Self { j, h }
+        let body = rigid3::Body::from_mass_matrix(j).expect("the oracle needs a valid mass matrix");
+        Self { j, h, body }
     }
 }
 
@@ -546,6 +548,14 @@ impl rigid3::Integrator<f64> for GeneralDmv {
 
     fn step_size(&self) -> f64 {
         self.h
+    }
+
+    fn set_step_size(&mut self, h: f64) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &rigid3::Body<f64> {
+        &self.body
     }
 }
 

@@ -67,19 +67,19 @@ pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dy
         "exact" => Some(Box::new(Exact::new(body, h))),
         "general" => {
             // the oracle is f64-only; wrap through f64
-            Some(Box::new(Widened(GeneralDmv::new(
-                body.mass_matrix().map(Real::to_f64),
-                h.to_f64(),
-            ))))
+            Some(Box::new(Widened(
+                GeneralDmv::new(body.mass_matrix().map(Real::to_f64), h.to_f64()),
+                body,
+            )))
         }
         _ => None,
     }
 }
 
 /// Runs an f64 integrator on any `Real` state by widening and narrowing.
-struct Widened(GeneralDmv);
+struct Widened<T>(GeneralDmv, Body<T>);
 
-impl<T: Real> Integrator<T> for Widened {
+impl<T: Real> Integrator<T> for Widened<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let mut w = m.map(Real::to_f64);
         self.0.step(&mut w)?;
@@ -95,5 +95,11 @@ impl<T: Real> Integrator<T> for Widened {
     }
     fn step_size(&self) -> T {
         T::from_f64(self.0.step_size())
+    }
+    fn set_step_size(&mut self, h: T) {
+        self.0.set_step_size(h.to_f64());
+    }
+    fn body(&self) -> &Body<T> {
+        &self.1
     }
 }
