@@ -52,6 +52,11 @@ pub enum StepError {
     Degenerate,
     /// The result would overflow the floating-point range.
     Overflow,
+    /// A momentum-only step was asked of a forced integrator whose torque depends on the
+    /// attitude (use `step_state`).
+    NeedsAttitude,
+    /// A method was built with an order it does not provide.
+    InvalidOrder,
 }
 
 impl fmt::Display for StepError {
@@ -62,6 +67,8 @@ impl fmt::Display for StepError {
             StepError::NoConvergence => "the iteration did not converge",
             StepError::Degenerate => "the method broke down on a degenerate input",
             StepError::Overflow => "the result would overflow",
+            StepError::NeedsAttitude => "the torque depends on the attitude: step the full state",
+            StepError::InvalidOrder => "the method does not provide that order",
         })
     }
 }

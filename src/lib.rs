@@ -74,6 +74,8 @@ pub mod cubic;
 pub mod elliptic;
 mod error;
 mod exact;
+mod forced;
+mod forced_rk4;
 mod integrator;
 mod linalg;
 mod midpoint;
@@ -84,10 +86,13 @@ mod mv_seed;
 mod real;
 mod rk4;
 mod splitting;
+pub mod torque;
 
 pub use body::Body;
 pub use error::{BodyError, StepError};
 pub use exact::Exact;
+pub use forced::{Composed, Forced};
+pub use forced_rk4::ForcedRk4;
 pub use integrator::{Integrator, State};
 pub use midpoint::{Midpoint, Solver};
 pub use mv::Mv;
@@ -97,3 +102,6 @@ pub use mv_seed::SeedMv;
 pub use real::Real;
 pub use rk4::Rk4;
 pub use splitting::{Splitting, Splitting2};
+pub use torque::{
+    ConstantTorque, FnTorque, Gravity, GravityGradient, NoTorque, PeriodicTorque, Torque,
+};

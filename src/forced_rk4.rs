@@ -1,0 +1,153 @@
+//! Classical Runge–Kutta on the full forced equations: the baseline for the forced methods.
+
+use crate::body::Body;
+use crate::error::StepError;
+use crate::integrator::{checked_momentum, checked_state, write_state, Integrator, State};
+use crate::linalg::{Quat, Vec3};
+use crate::real::{c, Real};
+use crate::torque::Torque;
+
+/// RK4 (order 4) on `m' = m x Omega + tau(t, q)`, `Omega = I^-1 (m - h_r)`,
+/// `q' = 1/2 q (x) (0, Omega)`, with `q` renormalised after each step.
+///
+/// Not structure preserving: `|m|^2`, the energy and `R(q) m` drift at `O(h^4)` per unit time.
+/// Four torque evaluations a step (at `t`, twice at `t + h/2`, at `t + h`). The time is
+/// advanced by a plain sum. A step whose result overflows returns `Overflow` and leaves the
+/// state as it was.
+#[derive(Clone, Copy, Debug)]
+pub struct ForcedRk4<T, F> {
+    body: Body<T>,
+    inv_i: Vec3<T>,
+    h: T,
+    t: T,
+    rotor: Vec3<T>,
+    torque: F,
+}
+
+impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
+    /// RK4 for `body` with step `h` and torque model `torque`, at time zero, without rotor.
+    pub fn new(body: Body<T>, h: T, torque: F) -> Self {
+        Self {
+            body,
+            inv_i: body.inverse_inertia(),
+            h,
+            t: T::ZERO,
+            rotor: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+            torque,
+        }
+    }
+
+    /// Sets the rotor momentum `h_r` (body frame).
+    ///
+    /// # Errors
+    ///
+    /// `NonFinite` for a non-finite `h_r` (the rotor is then unchanged).
+    pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
+        self.rotor = checked_momentum(&h_r)?;
+        Ok(())
+    }
+
+    /// The time of the state.
+    #[must_use]
+    pub fn time(&self) -> T {
+        self.t
+    }
+
+    /// Sets the time.
+    pub fn set_time(&mut self, t: T) {
+        self.t = t;
+    }
+
+    #[inline]
+    fn omega(&self, m: Vec3<T>) -> Vec3<T> {
+        m.sub(self.rotor).mul_elem(self.inv_i)
+    }
+
+    #[inline]
+    fn dm(&self, t: T, m: Vec3<T>, q: Quat<T>) -> Result<Vec3<T>, StepError> {
+        let tau = Vec3::from_array(self.torque.torque(t, &q.to_array()));
+        if !tau.is_finite() {
+            return Err(StepError::NonFinite);
+        }
+        Ok(m.cross(self.omega(m)).add(tau))
+    }
+
+    #[inline]
+    fn dq(&self, m: Vec3<T>, q: Quat<T>) -> Quat<T> {
+        let w = self.omega(m).scale(c::<T>(0.5));
+        q.mul(Quat {
+            w: T::ZERO,
+            x: w.x,
+            y: w.y,
+            z: w.z,
+        })
+    }
+}
+
+fn axpy<T: Real>(q: Quat<T>, k: T, d: Quat<T>) -> Quat<T> {
+    Quat {
+        w: q.w + k * d.w,
+        x: q.x + k * d.x,
+        y: q.y + k * d.y,
+        z: q.z + k * d.z,
+    }
+}
+
+impl<T: Real, F: Torque<T>> Integrator<T> for ForcedRk4<T, F> {
+    /// Momentum only, for torques that do not depend on the attitude.
+    fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
+        if self.torque.depends_on_attitude() {
+            return Err(StepError::NeedsAttitude);
+        }
+        let mut s = State::new(*m, [T::ONE, T::ZERO, T::ZERO, T::ZERO]);
+        self.step_state(&mut s)?;
+        *m = s.m;
+        Ok(())
+    }
+
+    fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        if !(self.h.is_finite() && self.t.is_finite()) {
+            return Err(StepError::NonFinite);
+        }
+        let (v, q) = checked_state(s)?;
+        let (h, hh, t) = (self.h, self.h * c::<T>(0.5), self.t);
+        let k1 = self.dm(t, v, q)?;
+        let l1 = self.dq(v, q);
+        let (v2, q2) = (v.add(k1.scale(hh)), axpy(q, hh, l1));
+        let k2 = self.dm(t + hh, v2, q2)?;
+        let l2 = self.dq(v2, q2);
+        let (v3, q3) = (v.add(k2.scale(hh)), axpy(q, hh, l2));
+        let k3 = self.dm(t + hh, v3, q3)?;
+        let l3 = self.dq(v3, q3);
+        let (v4, q4) = (v.add(k3.scale(h)), axpy(q, h, l3));
+        let k4 = self.dm(t + h, v4, q4)?;
+        let l4 = self.dq(v4, q4);
+        let sixth = h * c::<T>(1.0 / 6.0);
+        let third = h * c::<T>(1.0 / 3.0);
+        let next = v.add(k1.add(k4).add(k2.add(k3).scale(c::<T>(2.0))).scale(sixth));
+        let q_next = axpy(
+            axpy(axpy(axpy(q, sixth, l1), third, l2), third, l3),
+            sixth,
+            l4,
+        );
+        let (q_next, ok) = q_next.normalize();
+        if !ok {
+            return Err(StepError::Overflow);
+        }
+        write_state(s, next, q_next)?;
+        self.t = t + h;
+        Ok(())
+    }
+
+    fn step_size(&self) -> T {
+        self.h
+    }
+
+    fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    fn body(&self) -> &Body<T> {
+        &self.body
+    }
+}

@@ -1,0 +1,224 @@
+//! Torque models for the forced rigid body: what the kick of a kick–drift–kick step applies.
+//!
+//! A model gives the body-frame torque `tau(t, q)` at time `t` and attitude `q` (`(w, x, y, z)`,
+//! body to space). A torque that depends on `q` only (not on `m`) makes the kick
+//! `m <- m + (h/2) tau` the exact flow of the potential part, which is what keeps the splitting
+//! symplectic for a potential `V(q)`. Where a model derives from a potential it says so through
+//! [`Torque::potential`], so integrators can report the total energy.
+//!
+//! With `Gamma = R(q)^T e` the body-frame image of a fixed spatial direction `e`, a potential
+//! `V(Gamma)` exerts the body torque `tau = Gamma x dV/dGamma` (a virtual rotation `R -> R
+//! exp(hat xi)` moves `Gamma` by `-xi x Gamma`, and `dV = -tau . xi`).
+
+use crate::linalg::{Quat, Vec3};
+use crate::real::{c, Real};
+
+/// A body-frame torque as a function of time and attitude.
+///
+/// Implementations must be pure (the same `(t, q)` gives the same torque): the integrators
+/// reuse the last evaluation of a step at the start of the next one when `t` and `q` are
+/// unchanged. A non-finite torque makes the step return `StepError::NonFinite`.
+pub trait Torque<T> {
+    /// The torque in the body frame at time `t` and attitude `q = (w, x, y, z)` (unit,
+    /// body to space).
+    fn torque(&self, t: T, q: &[T; 4]) -> [T; 3];
+
+    /// The potential energy `V(t, q)` whose torque this is, if there is one (`None` for
+    /// non-conservative torques). Used only for reporting the total energy.
+    fn potential(&self, _t: T, _q: &[T; 4]) -> Option<T> {
+        None
+    }
+
+    /// Whether the torque depends on the attitude. Momentum-only stepping (`step`) is refused
+    /// with `StepError::NeedsAttitude` for models that do.
+    fn depends_on_attitude(&self) -> bool {
+        true
+    }
+
+    /// Whether the torque is identically zero (then `|m|^2` is an invariant, and the forced
+    /// integrators hold it at round-off across the rotor's turns).
+    fn is_zero(&self) -> bool {
+        false
+    }
+}
+
+/// No torque: the free body (with a rotor, a free gyrostat).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct NoTorque;
+
+impl<T: Real> Torque<T> for NoTorque {
+    fn torque(&self, _t: T, _q: &[T; 4]) -> [T; 3] {
+        [T::ZERO; 3]
+    }
+    fn potential(&self, _t: T, _q: &[T; 4]) -> Option<T> {
+        Some(T::ZERO)
+    }
+    fn depends_on_attitude(&self) -> bool {
+        false
+    }
+    fn is_zero(&self) -> bool {
+        true
+    }
+}
+
+/// A constant body-frame torque (a thruster or magnetorquer command held over the step).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ConstantTorque<T>(pub [T; 3]);
+
+impl<T: Real> Torque<T> for ConstantTorque<T> {
+    fn torque(&self, _t: T, _q: &[T; 4]) -> [T; 3] {
+        self.0
+    }
+    fn depends_on_attitude(&self) -> bool {
+        false
+    }
+}
+
+/// A periodic body-frame torque `tau_i(t) = A_i cos(W_i t + P_i)`.
+///
+/// Three `cos` calls per evaluation (libm: correctly rounded to about an ulp; on a Cortex-M4F
+/// about 1200 instructions each in f32, see the README's firmware table).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PeriodicTorque<T> {
+    /// Amplitudes `A`.
+    pub amplitude: [T; 3],
+    /// Angular frequencies `W` (rad per unit time).
+    pub freq: [T; 3],
+    /// Phases `P` (rad).
+    pub phase: [T; 3],
+}
+
+impl<T: Real> Torque<T> for PeriodicTorque<T> {
+    fn torque(&self, t: T, _q: &[T; 4]) -> [T; 3] {
+        let [a1, a2, a3] = self.amplitude;
+        let [w1, w2, w3] = self.freq;
+        let [p1, p2, p3] = self.phase;
+        [
+            a1 * (w1 * t + p1).cos(),
+            a2 * (w2 * t + p2).cos(),
+            a3 * (w3 * t + p3).cos(),
+        ]
+    }
+    fn depends_on_attitude(&self) -> bool {
+        false
+    }
+}
+
+/// Uniform gravity about a fixed point: the heavy top.
+///
+/// `V = mg <R(q) chi, e_z>` with `chi` the centre of mass in the body frame and `e_z` the
+/// spatial vertical (up), so `tau = mg (Gamma x chi)`, `Gamma = R(q)^T e_z`
+/// (Holm, Geometric Mechanics I, §2.4). The vertical spatial momentum `e_z . R(q) m` is
+/// conserved by the flow, and exactly by the kick (`Gamma . tau = 0`) and by the DMV drift.
+/// About 20 flops per evaluation, no transcendental call.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Gravity<T> {
+    /// Weight times distance scale: `M g` (torque = `M g` times a length in `chi`'s units).
+    pub mg: T,
+    /// Centre of mass in the body frame, from the fixed point.
+    pub com: [T; 3],
+}
+
+/// `Gamma = R(q)^T e_z`: the third row of `R(q)`.
+#[inline]
+fn vertical_in_body<T: Real>(q: &[T; 4]) -> Vec3<T> {
+    let [w, x, y, z] = *q;
+    let two = c::<T>(2.0);
+    Vec3::new(
+        two * (x * z - w * y),
+        two * (y * z + w * x),
+        T::ONE - two * (x * x + y * y),
+    )
+}
+
+impl<T: Real> Torque<T> for Gravity<T> {
+    fn torque(&self, _t: T, q: &[T; 4]) -> [T; 3] {
+        let gamma = vertical_in_body(q);
+        gamma
+            .cross(Vec3::from_array(self.com))
+            .scale(self.mg)
+            .to_array()
+    }
+    fn potential(&self, _t: T, q: &[T; 4]) -> Option<T> {
+        Some(self.mg * vertical_in_body(q).dot(Vec3::from_array(self.com)))
+    }
+}
+
+/// Gravity gradient in a circular orbit whose nadir direction turns at the orbit rate.
+///
+/// `tau = 3 K (r x I r)`, `r = R(q)^T (cos N t, sin N t, 0)`, from the potential
+/// `V = (3K/2) r . I r` (the quadrupole term of `-mu/|R + rho|` integrated over the body;
+/// `K = mu / R^3 = N^2` for a Keplerian circular orbit; Hughes, Spacecraft Attitude Dynamics,
+/// §8.2). The orbit is in the spatial x–y plane. One `sin`/`cos` pair per evaluation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GravityGradient<T> {
+    /// `K = mu / R^3`.
+    pub k: T,
+    /// Orbit rate `N` (rad per unit time).
+    pub n: T,
+    /// Principal moments of inertia of the body.
+    pub inertia: [T; 3],
+}
+
+impl<T: Real> GravityGradient<T> {
+    /// `r = R(q)^T (cos N t, sin N t, 0)`.
+    #[inline]
+    fn nadir(&self, t: T, q: &[T; 4]) -> Vec3<T> {
+        let a = self.n * t;
+        let n = Vec3::new(a.cos(), a.sin(), T::ZERO);
+        let q = Quat::from_array(*q);
+        Quat {
+            w: q.w,
+            x: -q.x,
+            y: -q.y,
+            z: -q.z,
+        }
+        .rotate(n)
+    }
+}
+
+impl<T: Real> Torque<T> for GravityGradient<T> {
+    fn torque(&self, t: T, q: &[T; 4]) -> [T; 3] {
+        let r = self.nadir(t, q);
+        let ir = r.mul_elem(Vec3::from_array(self.inertia));
+        r.cross(ir).scale(c::<T>(3.0) * self.k).to_array()
+    }
+    fn potential(&self, t: T, q: &[T; 4]) -> Option<T> {
+        let r = self.nadir(t, q);
+        let ir = r.mul_elem(Vec3::from_array(self.inertia));
+        Some(c::<T>(1.5) * self.k * r.dot(ir))
+    }
+}
+
+/// A closure `Fn(t, &q) -> tau` as a torque model (non-conservative, attitude-dependent).
+#[derive(Clone, Copy, Debug)]
+pub struct FnTorque<F>(pub F);
+
+impl<T: Real, F: Fn(T, &[T; 4]) -> [T; 3]> Torque<T> for FnTorque<F> {
+    fn torque(&self, t: T, q: &[T; 4]) -> [T; 3] {
+        (self.0)(t, q)
+    }
+}
+
+/// The sum of two models (nest pairs for more).
+impl<T: Real, A: Torque<T>, B: Torque<T>> Torque<T> for (A, B) {
+    fn torque(&self, t: T, q: &[T; 4]) -> [T; 3] {
+        let [a1, a2, a3] = self.0.torque(t, q);
+        let [b1, b2, b3] = self.1.torque(t, q);
+        [a1 + b1, a2 + b2, a3 + b3]
+    }
+    fn potential(&self, t: T, q: &[T; 4]) -> Option<T> {
+        Some(self.0.potential(t, q)? + self.1.potential(t, q)?)
+    }
+    fn depends_on_attitude(&self) -> bool {
+        self.0.depends_on_attitude() || self.1.depends_on_attitude()
+    }
+    fn is_zero(&self) -> bool {
+        self.0.is_zero() && self.1.is_zero()
+    }
+}

@@ -1,0 +1,352 @@
+//! The forced body: kick–turn–drift–turn–kick around the free DMV step, and its compositions.
+//! Oracles: the free step itself (no torque), conservation laws (vertical momentum of the heavy
+//! top, |m|^2 and R(q) m of the gyrostat), time reversal, and orders of convergence against a
+//! fine-step RK4 (the mpmath references are used in the lab's tests).
+
+mod common;
+
+use common::{dist, Rng, TALK_J, TALK_M0};
+use rigid3::{
+    Body, Composed, ConstantTorque, FnTorque, Forced, ForcedRk4, Gravity, Integrator, Mv, NoTorque,
+    PeriodicTorque, PreMv, State, StepError, Torque,
+};
+
+fn talk() -> Body<f64> {
+    Body::from_mass_matrix(TALK_J).unwrap()
+}
+
+fn qdist(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
+    let s: f64 = a.iter().zip(b).map(|(x, y)| (x + y).powi(2)).sum();
+    d.min(s).sqrt()
+}
+
+fn heavy_top() -> (Body<f64>, Gravity<f64>, State<f64>) {
+    let body = Body::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let g = Gravity {
+        mg: 1.0,
+        com: [0.2, -0.1, 0.5],
+    };
+    let s = State::new(
+        [0.3, -0.6, 1.1],
+        [0.9238795325112867, 0.3826834323650898, 0.0, 0.0],
+    );
+    (body, g, s)
+}
+
+fn vertical_momentum(s: &State<f64>) -> f64 {
+    s.spatial_momentum()[2]
+}
+
+#[test]
+fn without_torque_or_rotor_it_is_the_free_step() {
+    let body = talk();
+    let mut free = Mv::new(body, 0.1);
+    let mut forced = Forced::new(Mv::new(body, 0.1), NoTorque);
+    let (mut a, mut b) = (
+        State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]),
+        State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]),
+    );
+    for _ in 0..1000 {
+        free.step_state(&mut a).unwrap();
+        forced.step_state(&mut b).unwrap();
+    }
+    assert!(dist(a.m, b.m) <= 1e-15, "{:?} {:?}", a.m, b.m);
+    assert!(qdist(a.q, b.q) <= 1e-15);
+    assert!((forced.time() - 100.0).abs() <= 1e-13);
+}
+
+#[test]
+fn heavy_top_keeps_vertical_momentum_and_a_bounded_energy() {
+    let (body, g, s0) = heavy_top();
+    let mut f = Forced::new(Mv::new(body, 0.01), g);
+    let mut s = s0;
+    let p0 = vertical_momentum(&s0);
+    let e0 = f.total_energy(&s0).unwrap();
+    let n = 1_000_000;
+    let (mut dp, mut first, mut second) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..n {
+        f.step_state(&mut s).unwrap();
+        if k % 10 == 0 {
+            dp = dp.max((vertical_momentum(&s) - p0).abs() / p0.abs());
+            let de = (f.total_energy(&s).unwrap() - e0).abs() / e0.abs();
+            if k < n / 2 {
+                first = first.max(de);
+            } else {
+                second = second.max(de);
+            }
+        }
+    }
+    println!(
+        "heavy top, 1e6 steps: e_z.R(q)m {dp:e}, energy first half {first:e}, second {second:e}"
+    );
+    assert!(dp <= 1e-12, "vertical momentum drift {dp:e}");
+    assert!(
+        second <= 2.0 * first,
+        "energy grows: {first:e} then {second:e}"
+    );
+    assert!(first <= 1e-3, "energy error {first:e}");
+}
+
+#[test]
+fn gyrostat_keeps_casimir_and_spatial_momentum() {
+    let body = talk();
+    let rotor = [0.2, -0.1, 0.3];
+    let mut f = Forced::new(Mv::new(body, 0.05), NoTorque);
+    f.set_rotor(rotor).unwrap();
+    let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    let (c0, p0) = (body.casimir(&s0.m), s0.spatial_momentum());
+    let e0 = f.total_energy(&s0).unwrap();
+    let mut s = s0;
+    let (mut dc, mut dp, mut de) = (0.0f64, 0.0f64, 0.0f64);
+    for _ in 0..100_000 {
+        f.step_state(&mut s).unwrap();
+        dc = dc.max((body.casimir(&s.m) - c0).abs() / c0);
+        dp = dp.max(dist(s.spatial_momentum(), p0) / common::norm(p0));
+        de = de.max((f.total_energy(&s).unwrap() - e0).abs() / e0);
+    }
+    println!("gyrostat 1e5 steps: |m|^2 {dc:e}, R(q)m {dp:e}, energy (bounded) {de:e}");
+    assert!(dc <= 1e-14, "|m|^2 drift {dc:e}");
+    assert!(dp <= 1e-13, "R(q) m drift {dp:e}");
+    assert!(de <= 1e-3, "energy error {de:e}");
+}
+
+/// A fine-step RK4 solution: the oracle of the order tests here (RK4 at h/64 is 16.7 million
+/// times more accurate than at h, far below what the orders below measure).
+fn rk4_reference<F: Torque<f64> + Copy>(
+    body: Body<f64>,
+    torque: F,
+    rotor: [f64; 3],
+    s0: State<f64>,
+    t: f64,
+) -> State<f64> {
+    let n = (t / 1e-3).round() as usize;
+    let mut r = ForcedRk4::new(body, t / n as f64, torque);
+    r.set_rotor(rotor).unwrap();
+    let mut s = s0;
+    for _ in 0..n {
+        r.step_state(&mut s).unwrap();
+    }
+    s
+}
+
+fn error_at<I: Integrator<f64>>(
+    mut integ: I,
+    s0: State<f64>,
+    t: f64,
+    reference: &State<f64>,
+) -> f64 {
+    let n = (t / integ.step_size()).round() as usize;
+    let mut s = s0;
+    for _ in 0..n {
+        integ.step_state(&mut s).unwrap();
+    }
+    dist(s.m, reference.m).max(qdist(s.q, reference.q))
+}
+
+fn slope(hs: &[f64], errs: &[f64]) -> f64 {
+    common::observed_order(hs, errs)
+}
+
+#[test]
+fn orders_two_four_six_on_the_heavy_top() {
+    let (body, g, s0) = heavy_top();
+    let t = 2.0;
+    let reference = rk4_reference(body, g, [0.0; 3], s0, t);
+    let hs2 = [0.04, 0.02, 0.01];
+    let e2: Vec<f64> = hs2
+        .iter()
+        .map(|&h| error_at(Forced::new(Mv::new(body, h), g), s0, t, &reference))
+        .collect();
+    let hs4 = [0.2, 0.1, 0.05];
+    let e4: Vec<f64> = hs4
+        .iter()
+        .map(|&h| {
+            error_at(
+                Composed::new(Mv::new(body, h), g, 4).unwrap(),
+                s0,
+                t,
+                &reference,
+            )
+        })
+        .collect();
+    let hs6 = [0.25, 0.125, 0.0625];
+    let e6: Vec<f64> = hs6
+        .iter()
+        .map(|&h| {
+            error_at(
+                Composed::new(Mv::new(body, h), g, 6).unwrap(),
+                s0,
+                t,
+                &reference,
+            )
+        })
+        .collect();
+    let (p2, p4, p6) = (slope(&hs2, &e2), slope(&hs4, &e4), slope(&hs6, &e6));
+    println!("heavy top orders: {p2:.3} {e2:?}, {p4:.3} {e4:?}, {p6:.3} {e6:?}");
+    assert!((p2 - 2.0).abs() <= 0.15, "order 2: {p2}");
+    assert!((p4 - 4.0).abs() <= 0.15, "order 4: {p4}");
+    assert!((p6 - 6.0).abs() <= 0.15, "order 6: {p6}");
+}
+
+#[test]
+fn periodic_torque_and_rotor_orders_with_pre_mv_drift() {
+    let body = talk();
+    let torque = PeriodicTorque {
+        amplitude: [0.1, -0.05, 0.08],
+        freq: [1.3, 0.7, 2.1],
+        phase: [0.0, 0.5, 1.0],
+    };
+    let rotor = [0.2, -0.1, 0.3];
+    let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    let t = 2.0;
+    let reference = rk4_reference(body, torque, rotor, s0, t);
+    let hs = [0.04, 0.02, 0.01];
+    let errs: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            let mut f = Forced::new(PreMv::new(body, h, 4), torque);
+            f.set_rotor(rotor).unwrap();
+            error_at(f, s0, t, &reference)
+        })
+        .collect();
+    let p = slope(&hs, &errs);
+    assert!((p - 2.0).abs() <= 0.15, "order {p} {errs:?}");
+    let hs4 = [0.2, 0.1, 0.05];
+    let e4: Vec<f64> = hs4
+        .iter()
+        .map(|&h| {
+            let mut f = Composed::new(Mv::new(body, h), torque, 4).unwrap();
+            f.set_rotor(rotor).unwrap();
+            error_at(f, s0, t, &reference)
+        })
+        .collect();
+    let p4 = slope(&hs4, &e4);
+    assert!((p4 - 4.0).abs() <= 0.15, "order 4: {p4} {e4:?}");
+}
+
+#[test]
+fn a_step_back_undoes_a_step() {
+    // symmetric: the step with -h from t + h returns to the start (time-dependent torque,
+    // attitude-dependent torque and rotor together)
+    let (body, g, s0) = heavy_top();
+    let torque = (
+        g,
+        PeriodicTorque {
+            amplitude: [0.1, 0.0, -0.2],
+            freq: [2.0, 0.0, 1.0],
+            phase: [0.3, 0.0, 0.0],
+        },
+    );
+    let mut rng = Rng::new(5);
+    for _ in 0..50 {
+        let h = rng.range(0.01, 0.3);
+        let mut f = Forced::new(Mv::new(body, h), torque);
+        f.set_rotor([0.1, 0.2, -0.3]).unwrap();
+        f.set_time(rng.range(-3.0, 3.0));
+        let t0 = f.time();
+        let mut s = s0;
+        f.step_state(&mut s).unwrap();
+        f.set_step_size(-h);
+        f.step_state(&mut s).unwrap();
+        assert!(dist(s.m, s0.m) <= 1e-14, "{:?}", s.m);
+        assert!(qdist(s.q, s0.q) <= 1e-14);
+        assert!((f.time() - t0).abs() <= 1e-15);
+    }
+}
+
+#[test]
+fn given_torques_match_the_model() {
+    // step_state_with(tau(t), tau(t + h)) is the model's step for a torque of time only
+    let body = talk();
+    let torque = PeriodicTorque {
+        amplitude: [0.1, -0.05, 0.08],
+        freq: [1.3, 0.7, 2.1],
+        phase: [0.0, 0.5, 1.0],
+    };
+    let h = 0.05;
+    let mut model = Forced::new(Mv::new(body, h), torque);
+    let mut given = Forced::new(Mv::new(body, h), NoTorque);
+    let (mut a, mut b) = (
+        State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]),
+        State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]),
+    );
+    let id = [1.0, 0.0, 0.0, 0.0];
+    for k in 0..200 {
+        let t = k as f64 * h;
+        model.step_state(&mut a).unwrap();
+        let (t0, t1) = (torque.torque(t, &id), torque.torque(t + h, &id));
+        given.step_state_with(&mut b, t0, t1).unwrap();
+    }
+    assert!(dist(a.m, b.m) <= 1e-13);
+    assert!(qdist(a.q, b.q) <= 1e-13);
+    // momentum-only stepping agrees with the full step's momentum
+    let mut mom = Forced::new(Mv::new(body, h), torque);
+    let mut m = TALK_M0;
+    for _ in 0..200 {
+        mom.step(&mut m).unwrap();
+    }
+    assert!(dist(m, a.m) <= 1e-13);
+}
+
+#[test]
+fn bad_input_is_refused_and_leaves_everything_untouched() {
+    let (body, g, s0) = heavy_top();
+    // attitude-dependent torque, momentum only
+    let mut f = Forced::new(Mv::new(body, 0.1), g);
+    let mut m = s0.m;
+    assert_eq!(f.step(&mut m), Err(StepError::NeedsAttitude));
+    assert_eq!(m, s0.m);
+    // a torque that turns non-finite
+    let bad = FnTorque(|t: f64, _q: &[f64; 4]| {
+        if t > 0.25 {
+            [f64::NAN, 0.0, 0.0]
+        } else {
+            [0.0; 3]
+        }
+    });
+    let mut f = Forced::new(Mv::new(body, 0.1), bad);
+    let mut s = s0;
+    for _ in 0..2 {
+        f.step_state(&mut s).unwrap();
+    }
+    let (before, t) = (s, f.time());
+    assert_eq!(f.step_state(&mut s), Err(StepError::NonFinite));
+    assert_eq!((s, f.time()), (before, t));
+    // past the drift's limit
+    let mut f = Forced::new(Mv::new(body, 50.0), ConstantTorque([0.0, 0.0, 1.0]));
+    let mut s = s0;
+    assert_eq!(f.step_state(&mut s), Err(StepError::StepTooLarge));
+    assert_eq!(s, s0);
+    // non-finite rotor, invalid composition order
+    let mut f = Forced::new(Mv::new(body, 0.1), NoTorque);
+    assert_eq!(
+        f.set_rotor([f64::INFINITY, 0.0, 0.0]),
+        Err(StepError::NonFinite)
+    );
+    assert_eq!(f.rotor(), [0.0; 3]);
+    assert!(matches!(
+        Composed::new(Mv::new(body, 0.1), NoTorque, 5),
+        Err(StepError::InvalidOrder)
+    ));
+}
+
+#[test]
+fn f32_heavy_top_is_stable() {
+    let body = Body::<f32>::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let g = Gravity {
+        mg: 1.0f32,
+        com: [0.2, -0.1, 0.5],
+    };
+    let mut f = Forced::new(Mv::new(body, 0.01f32), g);
+    let mut s = State::new([0.3f32, -0.6, 1.1], [0.92387953, 0.38268343, 0.0, 0.0]);
+    let p0 = s.spatial_momentum()[2] as f64;
+    let e0 = f.total_energy(&s).unwrap() as f64;
+    for _ in 0..100_000 {
+        f.step_state(&mut s).unwrap();
+    }
+    let dp = (s.spatial_momentum()[2] as f64 - p0).abs() / p0.abs();
+    let de = (f.total_energy(&s).unwrap() as f64 - e0).abs() / e0.abs();
+    assert!(dp <= 1e-4, "f32 vertical momentum {dp:e}");
+    assert!(de <= 1e-3, "f32 energy {de:e}");
+}
