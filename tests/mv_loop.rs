@@ -60,8 +60,8 @@ fn kicked_momentum_equals_a_fresh_solve() {
         let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
         for _ in 0..200 {
             let d = rng.direction();
-            for i in 0..3 {
-                s.m[i] += kick * d[i];
+            for (mi, di) in s.m.iter_mut().zip(d) {
+                *mi += kick * di;
             }
             assert_same_step(&mut mv, &mut s, body, h);
         }
