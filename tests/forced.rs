@@ -339,7 +339,7 @@ fn f32_heavy_top_is_stable() {
         com: [0.2, -0.1, 0.5],
     };
     let mut f = Forced::new(Mv::new(body, 0.01f32), g);
-    let mut s = State::new([0.3f32, -0.6, 1.1], [0.92387953, 0.38268343, 0.0, 0.0]);
+    let mut s = State::new([0.3f32, -0.6, 1.1], [0.923_879_5, 0.382_683_43, 0.0, 0.0]);
     let p0 = s.spatial_momentum()[2] as f64;
     let e0 = f.total_energy(&s).unwrap() as f64;
     for _ in 0..100_000 {
