@@ -10,6 +10,7 @@ pub mod count;
 pub mod demo;
 pub mod figures;
 pub mod flops;
+pub mod forced_methods;
 pub mod general;
 pub mod methods;
 pub mod propagate;

@@ -2,8 +2,9 @@
 
 use clap::{Parser, Subcommand};
 use rigid3::{Body, Real, State};
+use rigid3_lab::forced_methods::{make_forced, ForceSpec, FORCED_METHODS};
 use rigid3_lab::methods::{describe, make, METHODS};
-use rigid3_lab::propagate::{propagate, Report};
+use rigid3_lab::propagate::{propagate, propagate_forced, Report};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -42,6 +43,27 @@ enum Command {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+        /// Rotor momentum hx,hy,hz (body frame, constant): a gyrostat.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        rotor: Option<Vec<f64>>,
+        /// Heavy top: M g (torque MG (Gamma x chi), Gamma = R(q)^T e_z); needs --com.
+        #[arg(long, allow_hyphen_values = true)]
+        gravity: Option<f64>,
+        /// Heavy top: centre of mass cx,cy,cz in the body frame.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        com: Option<Vec<f64>>,
+        /// Gravity gradient K,N: tau = 3K (r x I r), r = R(q)^T (cos N t, sin N t, 0).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        gravity_gradient: Option<Vec<f64>>,
+        /// Body torque amplitudes A1,A2,A3: tau_i(t) = A_i cos(W_i t + P_i).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        body_torque: Option<Vec<f64>>,
+        /// Body torque frequencies W1,W2,W3 (default 0: constant).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        torque_freq: Option<Vec<f64>>,
+        /// Body torque phases P1,P2,P3 (default 0).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        torque_phase: Option<Vec<f64>>,
     },
     /// List the methods.
     Methods,
@@ -89,7 +111,29 @@ fn main() -> ExitCode {
             t,
             f32,
             json,
+            rotor,
+            gravity,
+            com,
+            gravity_gradient,
+            body_torque,
+            torque_freq,
+            torque_phase,
         } => {
+            let spec = match force_spec(
+                rotor,
+                gravity,
+                com,
+                gravity_gradient,
+                body_torque,
+                torque_freq,
+                torque_phase,
+            ) {
+                Ok(s) => s,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
             let (Ok(inertia), Ok(m0)) = (<[f64; 3]>::try_from(inertia), <[f64; 3]>::try_from(m0))
             else {
                 eprintln!("error: --inertia and --m0 take three comma-separated numbers");
@@ -104,10 +148,11 @@ fn main() -> ExitCode {
                 }
             };
             let steps = (t / h).abs().round() as usize;
-            let report = if f32 {
-                run::<f32>(&method, inertia, m0, q0, h, steps)
-            } else {
-                run::<f64>(&method, inertia, m0, q0, h, steps)
+            let report = match (spec.is_free(), f32) {
+                (true, true) => run::<f32>(&method, inertia, m0, q0, h, steps),
+                (true, false) => run::<f64>(&method, inertia, m0, q0, h, steps),
+                (false, true) => run_forced::<f32>(&method, inertia, m0, q0, h, steps, &spec),
+                (false, false) => run_forced::<f64>(&method, inertia, m0, q0, h, steps, &spec),
             };
             match report {
                 Ok(r) => {
@@ -218,6 +263,81 @@ fn run<T: Real + 'static>(
     ))
 }
 
+/// The forcing from the CLI's flags.
+fn force_spec(
+    rotor: Option<Vec<f64>>,
+    gravity: Option<f64>,
+    com: Option<Vec<f64>>,
+    gravity_gradient: Option<Vec<f64>>,
+    body_torque: Option<Vec<f64>>,
+    torque_freq: Option<Vec<f64>>,
+    torque_phase: Option<Vec<f64>>,
+) -> Result<ForceSpec, String> {
+    let three = |v: Option<Vec<f64>>, flag: &str| -> Result<Option<[f64; 3]>, String> {
+        v.map(|v| {
+            <[f64; 3]>::try_from(v)
+                .map_err(|_| format!("--{flag} takes three comma-separated numbers"))
+        })
+        .transpose()
+    };
+    let gravity = match (gravity, three(com, "com")?) {
+        (Some(mg), Some(c)) => Some((mg, c)),
+        (None, None) => None,
+        _ => return Err("--gravity and --com go together".into()),
+    };
+    let gravity_gradient = match gravity_gradient {
+        Some(v) => match v.as_slice() {
+            [k, n] => Some((*k, *n)),
+            _ => return Err("--gravity-gradient takes K,N".into()),
+        },
+        None => None,
+    };
+    let freq = three(torque_freq, "torque-freq")?;
+    let phase = three(torque_phase, "torque-phase")?;
+    let body_torque = match three(body_torque, "body-torque")? {
+        Some(a) => Some((a, freq.unwrap_or([0.0; 3]), phase.unwrap_or([0.0; 3]))),
+        None if freq.is_some() || phase.is_some() => {
+            return Err("--torque-freq/--torque-phase need --body-torque".into())
+        }
+        None => None,
+    };
+    Ok(ForceSpec {
+        rotor: three(rotor, "rotor")?,
+        gravity,
+        gravity_gradient,
+        body_torque,
+    })
+}
+
+fn run_forced<T: Real + 'static>(
+    method: &str,
+    inertia: [f64; 3],
+    m0: [f64; 3],
+    q0: Option<[f64; 4]>,
+    h: f64,
+    steps: usize,
+    spec: &ForceSpec,
+) -> Result<Report, String> {
+    let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
+    let mut integrator = make_forced(method, body, T::from_f64(h), spec).ok_or_else(|| {
+        format!(
+            "unknown forced method '{method}' (forced methods: {})",
+            FORCED_METHODS.join(", ")
+        )
+    })?;
+    let s0 = State::new(
+        m0.map(T::from_f64),
+        q0.unwrap_or([1.0, 0.0, 0.0, 0.0]).map(T::from_f64),
+    );
+    Ok(propagate_forced(
+        method,
+        integrator.as_mut(),
+        spec,
+        s0,
+        steps,
+    ))
+}
+
 fn print_report(r: &Report) {
     println!("method   {}  ({})", r.method, describe(&r.method));
     println!("h        {}   steps {}   t {}", r.h, r.steps, r.t);
@@ -241,6 +361,9 @@ fn print_report(r: &Report) {
             "R(q) m   {:.17e} {:.17e} {:.17e}   max rel drift {:.3e}",
             p[0], p[1], p[2], d
         );
+    }
+    if let (Some(e), Some(d)) = (r.total_energy, r.total_energy_drift) {
+        println!("total E  {e:.17e}   max rel drift {d:.3e}");
     }
     if let Some(e) = &r.error {
         println!("stopped  {e}");

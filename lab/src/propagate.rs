@@ -32,6 +32,13 @@ pub struct Report {
     pub spatial_momentum_drift: Option<f64>,
     /// The error that stopped the run early, if any.
     pub error: Option<String>,
+    /// Forced runs with a potential: the final total energy
+    /// `1/2 (m - h_r) . I^-1 (m - h_r) + V(t, q)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub total_energy: Option<f64>,
+    /// Forced runs with a potential: max relative drift of the total energy over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub total_energy_drift: Option<f64>,
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -100,5 +107,58 @@ pub fn propagate<T: Real>(
         energy_drift: de,
         spatial_momentum_drift: with_attitude.then_some(dp),
         error: error.map(|e| e.to_string()),
+        total_energy: None,
+        total_energy_drift: None,
     }
+}
+
+/// Propagation of a forced scene (always with attitude): as [`propagate`], plus the total
+/// energy where the forcing has a potential (its drift is then the conservation check; `|m|^2`,
+/// `E` and `R(q) m` are reported but are not invariants under a torque).
+pub fn propagate_forced<T: Real>(
+    method: &str,
+    integrator: &mut dyn Integrator<T>,
+    spec: &crate::forced_methods::ForceSpec,
+    s0: State<T>,
+    steps: usize,
+) -> Report {
+    let inertia = integrator.body().inertia().map(Real::to_f64);
+    let h = integrator.step_size().to_f64();
+    let total = |k: usize, s: &State<T>| {
+        spec.total_energy(
+            inertia,
+            k as f64 * h,
+            s.m.map(Real::to_f64),
+            s.q.map(Real::to_f64),
+        )
+    };
+    let body = *integrator.body();
+    let mut report = propagate(method, integrator, &body, s0, 0, true);
+    let e0 = total(0, &s0);
+    let mut drift = 0.0f64;
+    let mut s = s0;
+    let mut taken = 0;
+    let mut error = None;
+    for k in 1..=steps {
+        if let Err(e) = integrator.step_state(&mut s) {
+            error = Some(e.to_string());
+            break;
+        }
+        taken = k;
+        if let (Some(e), Some(e0)) = (total(k, &s), e0) {
+            drift = drift.max(rel(e, e0));
+        }
+    }
+    let tail = propagate(method, integrator, &body, s, 0, true);
+    report.steps = taken;
+    report.t = taken as f64 * h;
+    report.m = tail.m;
+    report.q = tail.q;
+    report.energy = tail.energy;
+    report.casimir = tail.casimir;
+    report.spatial_momentum = tail.spatial_momentum;
+    report.error = error;
+    report.total_energy = total(taken, &s);
+    report.total_energy_drift = e0.map(|_| drift);
+    report
 }
