@@ -5,8 +5,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rigid3::{
-    Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, Rk4, SeedMv, Solver, Splitting, Splitting2,
-    State,
+    Body, Exact, Forced, Gravity, Integrator, Midpoint, Mv, NoTorque, PreMv, Real, Rk4, SeedMv,
+    Solver, Splitting, Splitting2, State,
 };
 
 const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];
@@ -68,11 +68,91 @@ fn bench_state<T: Real + 'static>(c: &mut Criterion, ty: &str) {
     group.finish();
 }
 
+/// The forced step against the free one, with attitude, in one group: the free `Mv` step,
+/// the kick–drift–kick with the torque given (zero-order hold), with the heavy-top gravity
+/// model, and with a rotor; the free `Mv` under a changed momentum (a kick from outside) and
+/// under a step size jittering by +-5% every step.
+fn bench_forced<T: Real + 'static>(c: &mut Criterion, ty: &str) {
+    let body = Body::<T>::from_mass_matrix(TALK_J.map(T::from_f64)).unwrap();
+    let h = T::from_f64(0.01);
+    let s0 = State::new(
+        TALK_M0.map(T::from_f64),
+        [T::ONE, T::ZERO, T::ZERO, T::ZERO],
+    );
+    let tau = [0.01, -0.02, 0.005].map(T::from_f64);
+    let mut group = c.benchmark_group(format!("forced-{ty}"));
+    let mut free = Mv::new(body, h);
+    let mut s = s0;
+    group.bench_function("mv-free", |b| {
+        b.iter(|| {
+            let _ = free.step_state(black_box(&mut s));
+        })
+    });
+    let mut given = Forced::new(Mv::new(body, h), NoTorque);
+    let mut s = s0;
+    // the sign alternates so the momentum stays bounded over criterion's millions of steps
+    let neg = tau.map(|x| -x);
+    let mut flip = false;
+    group.bench_function("mv-torque-given", |b| {
+        b.iter(|| {
+            flip = !flip;
+            let t = if flip { tau } else { neg };
+            let _ = given.step_state_with(black_box(&mut s), t, t);
+        })
+    });
+    let gravity = Gravity {
+        mg: T::from_f64(0.1),
+        com: [0.0, 0.0, 0.3].map(T::from_f64),
+    };
+    let mut top = Forced::new(Mv::new(body, h), gravity);
+    let mut s = s0;
+    group.bench_function("mv-heavy-top", |b| {
+        b.iter(|| {
+            let _ = top.step_state(black_box(&mut s));
+        })
+    });
+    let mut wheels = Forced::new(Mv::new(body, h), NoTorque);
+    wheels
+        .set_rotor([0.02, -0.01, 0.03].map(T::from_f64))
+        .unwrap();
+    let mut s = s0;
+    group.bench_function("mv-rotor", |b| {
+        b.iter(|| {
+            let _ = wheels.step_state(black_box(&mut s));
+        })
+    });
+    let mut kicked = Mv::new(body, h);
+    let mut s = s0;
+    let kick = T::from_f64(1e-4);
+    group.bench_function("mv-kicked", |b| {
+        b.iter(|| {
+            // a kick that turns m (|m| stays put), as a filter's small correction would
+            s.m[0] += kick * s.m[1];
+            s.m[1] -= kick * s.m[0];
+            let _ = kicked.step_state(black_box(&mut s));
+        })
+    });
+    let mut jitter = Mv::new(body, h);
+    let mut s = s0;
+    let (lo, hi) = (T::from_f64(0.0095), T::from_f64(0.0105));
+    let mut k = 0u32;
+    group.bench_function("mv-jitter", |b| {
+        b.iter(|| {
+            k = k.wrapping_add(1);
+            jitter.set_step_size(if k % 2 == 0 { lo } else { hi });
+            let _ = jitter.step_state(black_box(&mut s));
+        })
+    });
+    group.finish();
+}
+
 fn steps(c: &mut Criterion) {
     bench_momentum::<f64>(c, "f64");
     bench_momentum::<f32>(c, "f32");
     bench_state::<f64>(c, "f64");
     bench_state::<f32>(c, "f32");
+    bench_forced::<f64>(c, "f64");
+    bench_forced::<f32>(c, "f32");
 }
 
 criterion_group! {

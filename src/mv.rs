@@ -138,46 +138,55 @@ struct Anchor<T> {
     last: Vec3<T>,
     /// The Casimir in the step's scaled units, `|h m / kappa|^2`, for the current `h`.
     casimir: T,
-    /// `1 / (2 casimir)`, or zero for `m = 0`.
+    /// `1 / (2 casimir)` once a step has needed it (zero before, and for `m = 0`): a step
+    /// that takes the anchor from its own input has nothing to correct, so a loop that changes
+    /// `m` every tick (a torque kick) never pays this division.
     half_inv: T,
-    /// The Casimir in units of the scale alone, `|m / kappa|^2`: what a change of `h` rescales
-    /// (`casimir = unscaled (h / kappa)^2`). Rescaling `casimir` itself at every change would
-    /// round it each time and let it random-walk under a jittering step; this is rounded once.
-    unscaled: T,
+    /// `(h / kappa)^2` when the Casimir was taken: a change of `h` rescales
+    /// `casimir_taken / hn2_taken` (rounded afresh each time from the same two numbers, so a
+    /// jittering step does not let the Casimir random-walk, as rescaling `casimir` itself
+    /// would).
+    hn2: T,
+    /// The Casimir when taken.
+    taken: T,
 }
 
 impl<T: Real> Anchor<T> {
     /// The anchor for momentum `m` with `alpha = |hn m|^2`.
+    #[inline]
     fn take(m: Vec3<T>, alpha: T, hn: T) -> Self {
-        let hn2 = sq(hn);
-        let unscaled = if hn2 > T::ZERO { alpha / hn2 } else { T::ZERO };
         Self {
             last: m,
             casimir: alpha,
-            half_inv: if alpha > T::ZERO {
-                c::<T>(0.5) / alpha
-            } else {
-                T::ZERO
-            },
-            unscaled: if unscaled.is_finite() {
-                unscaled
-            } else {
-                T::ZERO
-            },
+            half_inv: T::ZERO,
+            hn2: sq(hn),
+            taken: alpha,
         }
+    }
+
+    /// The correction factor `(casimir - alpha) / (2 casimir)` (zero for `m = 0`).
+    #[inline]
+    fn correction(&mut self, alpha: T) -> T {
+        if self.half_inv == T::ZERO && self.casimir > T::ZERO {
+            self.half_inv = c::<T>(0.5) / self.casimir;
+        }
+        (self.casimir - alpha) * self.half_inv
     }
 
     /// The same Casimir for the scaled step `hn`.
     fn rescaled(self, hn: T) -> Self {
-        let casimir = self.unscaled * sq(hn);
-        let half_inv = if casimir > T::ZERO && casimir.is_finite() {
-            c::<T>(0.5) / casimir
+        let casimir = if self.hn2 > T::ZERO {
+            self.taken / self.hn2 * sq(hn)
         } else {
             T::ZERO
         };
         Self {
-            casimir: if half_inv > T::ZERO { casimir } else { T::ZERO },
-            half_inv,
+            casimir: if casimir.is_finite() {
+                casimir
+            } else {
+                T::ZERO
+            },
+            half_inv: T::ZERO,
             ..self
         }
     }
@@ -347,13 +356,15 @@ impl<T: Real> Mv<T> {
         // factor is folded into the solve. The Casimir is kept in the step's scaled units,
         // alpha = |h m / kappa|^2 (|m|^2 itself overflows f32 above 1.8e19), and re-taken when
         // the caller changed m (a filter's correction is kept, not undone) or the scale moved.
-        let anchor = match self.anchor {
-            Some(a) if follows && !resynced => a,
-            _ => Anchor::take(m, alpha, t.hn),
+        let (anchor, corr) = match self.anchor {
+            Some(mut a) if follows && !resynced => {
+                let corr = a.correction(alpha);
+                (a, corr)
+            }
+            _ => (Anchor::take(m, alpha, t.hn), T::ZERO),
         };
         // the correction is tiny: it goes into the increment, never into a product with m
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp)
-        let corr = (anchor.casimir - alpha) * anchor.half_inv;
         let fix = corr + T::ONE;
         let delta = t.delta;
         let s1 = t.s0 + delta;
