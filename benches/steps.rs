@@ -139,7 +139,7 @@ fn bench_forced<T: Real + 'static>(c: &mut Criterion, ty: &str) {
     group.bench_function("mv-jitter", |b| {
         b.iter(|| {
             k = k.wrapping_add(1);
-            jitter.set_step_size(if k % 2 == 0 { lo } else { hi });
+            jitter.set_step_size(if k.is_multiple_of(2) { lo } else { hi });
             let _ = jitter.step_state(black_box(&mut s));
         })
     });
