@@ -14,6 +14,8 @@ struct Cli {
     command: Command,
 }
 
+// parsed once per run: the size of the biggest variant does not matter
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Propagate one initial state with one method and print the final state, the
