@@ -86,6 +86,55 @@ struct Track<T> {
     inv_dg: T,
     /// `2 sqrt(eps) s1_0`: a tracking correction above it means the invariants moved.
     newton_tol: T,
+    /// `2 sqrt(eps)`.
+    tol_unit: T,
+}
+
+impl<T: Real> Track<T> {
+    /// All zero: the fields are set by [`Track::set_mass_matrix`] and the caller.
+    fn zero() -> Self {
+        let z = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        Self {
+            kappa: T::ONE,
+            hn: T::ZERO,
+            j: z,
+            j2: z,
+            c0: z,
+            sum_j2: T::ZERO,
+            pair_j2: T::ZERO,
+            s3x8: T::ZERO,
+            s3: T::ZERO,
+            s0: T::ZERO,
+            two_s0: T::ZERO,
+            two_u0: T::ZERO,
+            delta: T::ZERO,
+            inv_dg: T::ZERO,
+            newton_tol: T::ZERO,
+            tol_unit: T::ZERO,
+        }
+    }
+
+    /// The body's part of the tracking data for mass matrix `j` in the kept scale `kappa`
+    /// (`delta` is left as it is: the start of the next Newton solve).
+    fn set_mass_matrix(&mut self, j: Vec3<T>) {
+        let kappa = self.kappa;
+        // divide, not multiply by a reciprocal: 1 / kappa overflows for a subnormal kappa
+        let jn = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
+        let j2 = jn.mul_elem(jn);
+        let s0 = jn.x + jn.y + jn.z;
+        let s2_0 = jn.x * jn.y + jn.x * jn.z + jn.y * jn.z;
+        self.j = jn;
+        self.j2 = j2;
+        self.c0 = Vec3::new(j2.x + s2_0, j2.y + s2_0, j2.z + s2_0);
+        self.sum_j2 = j2.x + j2.y + j2.z;
+        self.pair_j2 = j2.x * j2.y + j2.x * j2.z + j2.y * j2.z;
+        self.s3x8 = c::<T>(8.0) * jn.x * jn.y * jn.z;
+        self.s3 = jn.x * jn.y * jn.z;
+        self.s0 = s0;
+        self.two_s0 = s0 + s0;
+        self.two_u0 = c::<T>(4.0) * s2_0;
+        self.newton_tol = self.tol_unit * s0;
+    }
 }
 
 /// The new momentum and, when asked for, `X^T`.
@@ -204,6 +253,23 @@ impl<T: Real> Mv<T> {
         }
     }
 
+    /// Changes the body, keeping the tracked root as the start of the next solve when the
+    /// new mass matrix is within a factor of two of the old (the scale stays valid): what
+    /// [`crate::PreMv`] does when the momentum or the step changes its modified moments
+    /// slightly. The next step checks existence and re-solves by Newton.
+    pub(crate) fn set_body(&mut self, body: Body<T>) {
+        let j = body.mass_matrix_vec();
+        let (new, old) = (j.max_abs(), self.body.mass_matrix_vec().max_abs());
+        self.body = body;
+        self.recheck = true;
+        match self.track.as_mut() {
+            Some(t) if new <= old * c::<T>(2.0) && old <= new * c::<T>(2.0) => {
+                t.set_mass_matrix(j);
+            }
+            _ => self.track = None,
+        }
+    }
+
     /// The largest `|h|` for which the DMV step from `m` exists (the cubic of MATH.md §3 keeps
     /// no negative real root), from the polynomial conditions alone: with `t = h^2`, `A` and
     /// `B` fall linearly in `t`, the step exists while both are positive, and after that while
@@ -231,29 +297,15 @@ impl<T: Real> Mv<T> {
         if !kappa.is_finite() {
             return Err(StepError::Overflow);
         }
-        // divide, not multiply by a reciprocal: 1 / kappa overflows for a subnormal kappa
-        let jn = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
-        let j2 = jn.mul_elem(jn);
-        let s0 = jn.x + jn.y + jn.z;
-        let s2_0 = jn.x * jn.y + jn.x * jn.z + jn.y * jn.z;
-        let hn = self.h / kappa;
         let mut t = Track {
             kappa,
-            hn,
-            j: jn,
-            j2,
-            c0: Vec3::new(j2.x + s2_0, j2.y + s2_0, j2.z + s2_0),
-            sum_j2: j2.x + j2.y + j2.z,
-            pair_j2: j2.x * j2.y + j2.x * j2.z + j2.y * j2.z,
-            s3x8: c::<T>(8.0) * jn.x * jn.y * jn.z,
-            s3: jn.x * jn.y * jn.z,
-            s0,
-            two_s0: s0 + s0,
-            two_u0: c::<T>(4.0) * s2_0,
+            hn: self.h / kappa,
             delta: T::ZERO,
             inv_dg: T::ZERO,
-            newton_tol: c::<T>(2.0) * T::EPSILON.sqrt() * s0,
+            tol_unit: c::<T>(2.0) * T::EPSILON.sqrt(),
+            ..Track::zero()
         };
+        t.set_mass_matrix(j);
         let k = t.coefficients(m);
         if !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);

@@ -29,8 +29,11 @@ use crate::real::{c, sq, Real};
 /// modified body's [`Mv::max_step`]; if the modified moments break the triangle inequality
 /// (very large steps) the step returns `StepTooLarge`.
 ///
-/// Cost per step: that of `Mv` plus a three-way comparison; the set-up (about 300 flops for
-/// order 10) runs at the first step and whenever `m` is not the momentum returned last.
+/// Cost per step: that of `Mv` plus a three-way comparison. When `m` or `h` changes from
+/// outside (a filter's correction, a torque kick, a jittering clock) the modified moments are
+/// updated incrementally: the polynomials of MATH.md §5 are tabulated per body at
+/// construction, so an update is one evaluation (about 70 flops and three divisions) and the
+/// `Mv` of the modified body keeps its tracked root as the start of a Newton re-solve.
 #[derive(Clone, Copy, Debug)]
 pub struct PreMv<T> {
     body: Body<T>,
@@ -41,6 +44,8 @@ pub struct PreMv<T> {
     mv: Mv<T>,
     /// ...valid while the momentum is the one it returned last.
     last: Option<[T; 3]>,
+    /// The modified moments' polynomials for this body.
+    modifier: Modifier<T>,
 }
 
 impl<T: Real> PreMv<T> {
@@ -54,6 +59,7 @@ impl<T: Real> PreMv<T> {
             order,
             mv: Mv::new(body, h),
             last: None,
+            modifier: Modifier::new(&body, order),
         }
     }
 
@@ -64,7 +70,7 @@ impl<T: Real> PreMv<T> {
 
     /// The modified principal moments `I~` for momentum `m` (MATH.md §5).
     pub fn modified_inertia(&self, m: &[T; 3]) -> Result<[T; 3], StepError> {
-        modified_inertia(&self.body, self.h, self.order, m)
+        self.modifier.modified_inertia(self.h, m)
     }
 
     /// True while `m` is the momentum this integrator returned last (its modified body and
@@ -90,9 +96,12 @@ impl<T: Real> PreMv<T> {
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
         }
-        let inertia = modified_inertia(&self.body, self.h, self.order, m)?;
+        let inertia = self.modifier.modified_inertia(self.h, m)?;
         let body = Body::from_inertia(inertia).map_err(|_| StepError::StepTooLarge)?;
-        self.mv = Mv::new(body, self.h);
+        if self.mv.step_size() != self.h {
+            self.mv.set_step_size(self.h);
+        }
+        self.mv.set_body(body);
         Ok(())
     }
 }
@@ -131,109 +140,173 @@ impl<T: Real> Integrator<T> for PreMv<T> {
     }
 }
 
-/// `I~` from the table of MATH.md §5, terms up to `s_{order-1}`, `d_{order-1}`.
-fn modified_inertia<T: Real>(
-    body: &Body<T>,
-    h: T,
+/// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of MATH.md §5
+/// as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree `k + 1`). They depend on
+/// the body only, so they are computed once (about 250 flops and the divisions for order 10)
+/// and a change of `m` or `h` costs an evaluation (about 40 flops) and three divisions.
+#[derive(Clone, Copy, Debug)]
+struct Modifier<T> {
     order: u8,
-    m: &[T; 3],
-) -> Result<[T; 3], StepError> {
-    let [i1, i2, i3] = body.inertia();
-    if order <= 2 {
-        return Ok([i1, i2, i3]);
-    }
-    let h2 = sq(h);
-    let cc = h2 * body.casimir(m) * c::<T>(0.5);
-    let hh = h2 * body.energy(m);
-    if !(cc.is_finite() && hh.is_finite()) {
-        return Err(StepError::Overflow);
-    }
-    let d = i1 * i2 * i3;
-    // sigma_k = sum I_i^k
-    let pow = |x: T, k: i32| -> T {
-        let mut r = T::ONE;
-        let base = if k < 0 { T::ONE / x } else { x };
-        let mut n = k.unsigned_abs();
-        while n > 0 {
-            r *= base;
-            n -= 1;
-        }
-        r
-    };
-    let sig = |k: i32| pow(i1, k) + pow(i2, k) + pow(i3, k);
-    // tau_{b,c} = sum over cyclic (i, j, k) of (I_j^b + I_k^b) / I_i^c
-    let tau = |b: i32, cexp: i32| {
-        (pow(i2, b) + pow(i3, b)) / pow(i1, cexp)
-            + (pow(i3, b) + pow(i1, b)) / pow(i2, cexp)
-            + (pow(i1, b) + pow(i2, b)) / pow(i3, cexp)
-    };
-    let k = |x: f64| c::<T>(x);
-    let (s1, s2, s3_, s4) = (sig(1), sig(2), sig(3), sig(4));
-    let (sm1, sm2, sm3, sm4) = (sig(-1), sig(-2), sig(-3), sig(-4));
-    let (t11, t21, t12) = (tau(1, 1), tau(2, 1), tau(1, 2));
-    let d2 = sq(d);
-    let d3 = d2 * d;
-    let d4 = sq(d2);
-    let (c2, h2_) = (sq(cc), sq(hh));
+    inv_i: [T; 3],
+    s: [[T; 5]; 4],
+    d: [[T; 5]; 4],
+}
 
-    let mut s = cc * s1 / (k(6.0) * d) - hh * sm1 / k(3.0);
-    let mut dd = -cc / (k(3.0) * d) + hh * s1 / (k(6.0) * d);
-    if order >= 6 {
-        s += c2 * (s2 - d * sm1) / (k(30.0) * d2)
-            + cc * hh * (T::ONE - t11) / (k(30.0) * d)
-            + h2_ * (k(3.0) * s1 + k(2.0) * d * sm2) / (k(60.0) * d);
-        dd += -c2 * s1 / (k(60.0) * d2) + cc * hh * (k(6.0) * d * sm1 - s2) / (k(60.0) * d2)
-            - h2_ * (k(9.0) + t11) / (k(60.0) * d);
-    }
-    if order >= 8 {
-        let (c3, h3) = (c2 * cc, h2_ * hh);
-        s += c3 * (k(4.0) * d + k(17.0) * s3_ - k(15.0) * d * t11) / (k(2520.0) * d3)
-            + c2 * hh * (k(9.0) * s1 + k(10.0) * d * sm2 - k(6.0) * t21) / (k(420.0) * d2)
-            + cc * h2_ * (k(53.0) * s2 + (k(6.0) * t12 - k(100.0) * sm1) * d) / (k(2520.0) * d2)
-            + h3 * (k(15.0) - d * sm3 - k(2.0) * t11) / (k(630.0) * d);
-        dd += c3 * (k(34.0) * d * sm1 - k(19.0) * s2) / (k(2520.0) * d3)
-            + c2 * hh * (s3_ + k(2.0) * d * t11 - k(85.0) * d) / (k(1260.0) * d3)
-            + cc * h2_ * (k(47.0) * s1 + k(13.0) * t21 - k(38.0) * d * sm2) / (k(2520.0) * d2)
-            + h3 * (k(9.0) * d * sm1 + d * t12 - k(11.0) * s2) / (k(1260.0) * d2);
-    }
-    if order >= 10 {
-        let (t31, t22, t13) = (tau(3, 1), tau(2, 2), tau(1, 3));
-        let (c3, h3, c4, h4) = (c2 * cc, h2_ * hh, sq(c2), sq(h2_));
-        s += c4 * (k(62.0) * s4 - k(94.0) * d * t21 + k(66.0) * d2 * sm2 + k(81.0) * d * s1)
-            / (k(45360.0) * d4)
-            + c3 * hh * (-k(77.0) * t31 + k(75.0) * d * t12 + k(214.0) * s2 - k(240.0) * d * sm1)
-                / (k(22680.0) * d3)
-            + c2 * h2_
-                * (k(26.0) * d * t22 + k(55.0) * s3_ + k(204.0) * d
+impl<T: Real> Modifier<T> {
+    fn new(body: &Body<T>, order: u8) -> Self {
+        let [i1, i2, i3] = body.inertia();
+        let z = [T::ZERO; 5];
+        let mut m = Self {
+            order,
+            inv_i: [T::ONE / i1, T::ONE / i2, T::ONE / i3],
+            s: [z; 4],
+            d: [z; 4],
+        };
+        if order <= 2 {
+            return m;
+        }
+        let d = i1 * i2 * i3;
+        // sigma_k = sum I_i^k
+        let pow = |x: T, k: i32| -> T {
+            let mut r = T::ONE;
+            let base = if k < 0 { T::ONE / x } else { x };
+            let mut n = k.unsigned_abs();
+            while n > 0 {
+                r *= base;
+                n -= 1;
+            }
+            r
+        };
+        let sig = |k: i32| pow(i1, k) + pow(i2, k) + pow(i3, k);
+        // tau_{b,c} = sum over cyclic (i, j, k) of (I_j^b + I_k^b) / I_i^c
+        let tau = |b: i32, cexp: i32| {
+            (pow(i2, b) + pow(i3, b)) / pow(i1, cexp)
+                + (pow(i3, b) + pow(i1, b)) / pow(i2, cexp)
+                + (pow(i1, b) + pow(i2, b)) / pow(i3, cexp)
+        };
+        let k = |x: f64| c::<T>(x);
+        let (s1, s2, s3_, s4) = (sig(1), sig(2), sig(3), sig(4));
+        let (sm1, sm2, sm3, sm4) = (sig(-1), sig(-2), sig(-3), sig(-4));
+        let (t11, t21, t12) = (tau(1, 1), tau(2, 1), tau(1, 2));
+        let d2 = sq(d);
+        let d3 = d2 * d;
+        let d4 = sq(d2);
+        // degree 1 (s3, d3): [H, C]
+        m.s[0] = [-sm1 / k(3.0), s1 / (k(6.0) * d), T::ZERO, T::ZERO, T::ZERO];
+        m.d[0] = [
+            s1 / (k(6.0) * d),
+            -T::ONE / (k(3.0) * d),
+            T::ZERO,
+            T::ZERO,
+            T::ZERO,
+        ];
+        if order >= 6 {
+            // degree 2 (s5, d5): [H^2, C H, C^2]
+            m.s[1] = [
+                (k(3.0) * s1 + k(2.0) * d * sm2) / (k(60.0) * d),
+                (T::ONE - t11) / (k(30.0) * d),
+                (s2 - d * sm1) / (k(30.0) * d2),
+                T::ZERO,
+                T::ZERO,
+            ];
+            m.d[1] = [
+                -(k(9.0) + t11) / (k(60.0) * d),
+                (k(6.0) * d * sm1 - s2) / (k(60.0) * d2),
+                -s1 / (k(60.0) * d2),
+                T::ZERO,
+                T::ZERO,
+            ];
+        }
+        if order >= 8 {
+            // degree 3 (s7, d7): [H^3, C H^2, C^2 H, C^3]
+            m.s[2] = [
+                (k(15.0) - d * sm3 - k(2.0) * t11) / (k(630.0) * d),
+                (k(53.0) * s2 + (k(6.0) * t12 - k(100.0) * sm1) * d) / (k(2520.0) * d2),
+                (k(9.0) * s1 + k(10.0) * d * sm2 - k(6.0) * t21) / (k(420.0) * d2),
+                (k(4.0) * d + k(17.0) * s3_ - k(15.0) * d * t11) / (k(2520.0) * d3),
+                T::ZERO,
+            ];
+            m.d[2] = [
+                (k(9.0) * d * sm1 + d * t12 - k(11.0) * s2) / (k(1260.0) * d2),
+                (k(47.0) * s1 + k(13.0) * t21 - k(38.0) * d * sm2) / (k(2520.0) * d2),
+                (s3_ + k(2.0) * d * t11 - k(85.0) * d) / (k(1260.0) * d3),
+                (k(34.0) * d * sm1 - k(19.0) * s2) / (k(2520.0) * d3),
+                T::ZERO,
+            ];
+        }
+        if order >= 10 {
+            let (t31, t22, t13) = (tau(3, 1), tau(2, 2), tau(1, 3));
+            // degree 4 (s9, d9): [H^4, C H^3, C^2 H^2, C^3 H, C^4]
+            m.s[3] = [
+                (k(2.0) * d2 * sm4 + k(5.0) * d * t12 - k(171.0) * d * sm1 + k(159.0) * s2)
+                    / (k(45360.0) * d2),
+                (k(137.0) * d * sm2 - d * t13 + k(3.0) * s1 - k(69.0) * t21) / (k(11340.0) * d2),
+                (k(26.0) * d * t22 + k(55.0) * s3_ + k(204.0) * d
                     - k(50.0) * d2 * sm3
                     - k(59.0) * d * t11)
-                / (k(7560.0) * d3)
-            + cc * h3 * (k(137.0) * d * sm2 - d * t13 + k(3.0) * s1 - k(69.0) * t21)
-                / (k(11340.0) * d2)
-            + h4 * (k(2.0) * d2 * sm4 + k(5.0) * d * t12 - k(171.0) * d * sm1 + k(159.0) * s2)
-                / (k(45360.0) * d2);
-        dd += c4 * (k(60.0) * d * t11 - k(61.0) * s3_ - k(247.0) * d) / (k(45360.0) * d4)
-            + c3 * hh * (k(54.0) * d * s1 - s4 + k(218.0) * d * t21 - k(426.0) * d2 * sm2)
-                / (k(45360.0) * d4)
-            + c2 * h2_ * (k(125.0) * d * sm1 - k(5.0) * t31 - k(130.0) * s2 + k(4.0) * d * t12)
-                / (k(7560.0) * d3)
-            + cc * h3
-                * (k(67.0) * s3_ - k(735.0) * d - k(15.0) * d * t22
+                    / (k(7560.0) * d3),
+                (-k(77.0) * t31 + k(75.0) * d * t12 + k(214.0) * s2 - k(240.0) * d * sm1)
+                    / (k(22680.0) * d3),
+                (k(62.0) * s4 - k(94.0) * d * t21 + k(66.0) * d2 * sm2 + k(81.0) * d * s1)
+                    / (k(45360.0) * d4),
+            ];
+            m.d[3] = [
+                (k(165.0) * s1 - d * t13 - k(9.0) * t21 - k(145.0) * d * sm2) / (k(45360.0) * d2),
+                (k(67.0) * s3_ - k(735.0) * d - k(15.0) * d * t22
                     + k(87.0) * d * t11
                     + k(34.0) * d2 * sm3)
-                / (k(22680.0) * d3)
-            + h4 * (k(165.0) * s1 - d * t13 - k(9.0) * t21 - k(145.0) * d * sm2)
-                / (k(45360.0) * d2);
+                    / (k(22680.0) * d3),
+                (k(125.0) * d * sm1 - k(5.0) * t31 - k(130.0) * s2 + k(4.0) * d * t12)
+                    / (k(7560.0) * d3),
+                (k(54.0) * d * s1 - s4 + k(218.0) * d * t21 - k(426.0) * d2 * sm2)
+                    / (k(45360.0) * d4),
+                (k(60.0) * d * t11 - k(61.0) * s3_ - k(247.0) * d) / (k(45360.0) * d4),
+            ];
+        }
+        m
     }
-    let scale = T::ONE + s;
-    let inv = [scale / i1 + dd, scale / i2 + dd, scale / i3 + dd];
-    if !(inv[0] > T::ZERO && inv[1] > T::ZERO && inv[2] > T::ZERO) {
-        return Err(StepError::StepTooLarge);
-    }
-    let out = [T::ONE / inv[0], T::ONE / inv[1], T::ONE / inv[2]];
-    if out.iter().all(|x| x.is_finite()) {
-        Ok(out)
-    } else {
-        Err(StepError::Overflow)
+
+    /// `I~` for step `h` and momentum `m`: `1 / I~_j = (1 / I_j)(1 + s) + d` (MATH.md §5).
+    fn modified_inertia(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
+        let [a1, a2, a3] = self.inv_i;
+        if self.order <= 2 {
+            return Ok([T::ONE / a1, T::ONE / a2, T::ONE / a3]);
+        }
+        let h2 = sq(h);
+        let (m1, m2, m3) = (sq(m[0]), sq(m[1]), sq(m[2]));
+        let cc = h2 * (m1 + m2 + m3) * c::<T>(0.5);
+        let hh = h2 * (m1 * a1 + m2 * a2 + m3 * a3) * c::<T>(0.5);
+        if !(cc.is_finite() && hh.is_finite()) {
+            return Err(StepError::Overflow);
+        }
+        // every monomial C^a H^b with a + b = 1..4, once; the coefficients past the order
+        // are zero
+        let (c2, h2) = (sq(cc), sq(hh));
+        let (ch, c2h, ch2) = (cc * hh, c2 * hh, cc * h2);
+        let mono = [
+            [hh, cc, T::ZERO, T::ZERO, T::ZERO],
+            [h2, ch, c2, T::ZERO, T::ZERO],
+            [h2 * hh, ch2, c2h, c2 * cc, T::ZERO],
+            [sq(h2), ch2 * hh, c2 * h2, c2h * cc, sq(c2)],
+        ];
+        let dot5 = |a: &[T; 5], b: &[T; 5]| {
+            a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4]
+        };
+        let [m1, m2, m3, m4] = &mono;
+        let [s1, s2, s3, s4] = &self.s;
+        let [d1, d2, d3, d4] = &self.d;
+        let s = dot5(s1, m1) + dot5(s2, m2) + dot5(s3, m3) + dot5(s4, m4);
+        let d = dot5(d1, m1) + dot5(d2, m2) + dot5(d3, m3) + dot5(d4, m4);
+        let scale = T::ONE + s;
+        let inv = [scale * a1 + d, scale * a2 + d, scale * a3 + d];
+        if !(inv[0] > T::ZERO && inv[1] > T::ZERO && inv[2] > T::ZERO) {
+            return Err(StepError::StepTooLarge);
+        }
+        let out = [T::ONE / inv[0], T::ONE / inv[1], T::ONE / inv[2]];
+        if out.iter().all(|x| x.is_finite()) {
+            Ok(out)
+        } else {
+            Err(StepError::Overflow)
+        }
     }
 }

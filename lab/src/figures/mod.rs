@@ -5,6 +5,7 @@
 //! Everything is deterministic (no random numbers; the atlas directions are a Fibonacci
 //! lattice); host times are measured, so they vary from run to run by a few percent.
 
+pub mod forced;
 pub mod horizon;
 pub mod plot;
 pub mod stability;
@@ -54,6 +55,10 @@ pub fn style(method: &str) -> (RGBColor, Mark, bool) {
         "midpoint" => (RGBColor(20, 20, 20), Mark::Square, false),
         "midpoint-fp" => (RGBColor(130, 130, 130), Mark::Cross, true),
         "rk4" => (RGBColor(227, 119, 194), Mark::Circle, false),
+        "forced4" => (RGBColor(0, 100, 0), Mark::Triangle, false),
+        "forced6" => (RGBColor(0, 0, 139), Mark::Square, false),
+        "forced4-pre4" => (RGBColor(0, 100, 0), Mark::Cross, true),
+        "forced6-pre6" => (RGBColor(0, 0, 139), Mark::Cross, true),
         _ => (RGBColor(100, 100, 100), Mark::None, false),
     }
 }
