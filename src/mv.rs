@@ -229,6 +229,24 @@ struct Anchor<T> {
     spatial: Option<Spatial<T>>,
 }
 
+/// The 2x2 solve of [`Anchor::correction`], or `None` where the Gram determinant is small.
+#[cold]
+#[inline(never)]
+fn energy_correction<T: Real>(k: &Coefficients<T>, t: &Track<T>, da: T, db: T) -> Option<(T, T)> {
+    let a = k.a;
+    let det = a.x * a.y * t.d12 + a.x * a.z * t.d13 + a.y * a.z * t.d23;
+    let gamma = a.dot(t.j4);
+    if det > c::<T>(1e-3) * k.sum_a * gamma {
+        let inv = c::<T>(0.5) / det;
+        Some((
+            (gamma * da - k.beta * db) * inv,
+            (k.sum_a * db - k.beta * da) * inv,
+        ))
+    } else {
+        None
+    }
+}
+
 /// The spatial momentum the attitude is held to.
 #[derive(Clone, Copy, Debug)]
 struct Spatial<T> {
@@ -268,17 +286,10 @@ impl<T: Real> Anchor<T> {
         let da = self.alpha - k.sum_a;
         let db = self.beta - k.beta;
         // the energy drifts by a few ulps a step: correct it when it has moved by 16 (a
-        // comparison on most steps, the 2x2 solve now and then)
+        // comparison on most steps, the 2x2 solve, out of line, now and then)
         if db.abs() > self.beta_tol {
-            let a = k.a;
-            let det = a.x * a.y * t.d12 + a.x * a.z * t.d13 + a.y * a.z * t.d23;
-            let gamma = a.dot(t.j4);
-            if det > c::<T>(1e-3) * k.sum_a * gamma {
-                let inv = c::<T>(0.5) / det;
-                return (
-                    (gamma * da - k.beta * db) * inv,
-                    (k.sum_a * db - k.beta * da) * inv,
-                );
+            if let Some(xy) = energy_correction(k, t, da, db) {
+                return xy;
             }
         }
         (da * self.half_inv, T::ZERO)
