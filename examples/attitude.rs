@@ -33,7 +33,10 @@ mod firmware {
     use defmt_semihosting as _;
     use embedded_hal::i2c::{I2c, Operation};
     use heapless::Vec as HVec;
-    use rigid3::{Body, Integrator, Mv, PreMv, Real, Rk4, SeedMv, Splitting, State, StepError};
+    use rigid3::{
+        Body, ConstantTorque, Forced, Integrator, Mv, NoTorque, PreMv, Real, Rk4, SeedMv,
+        Splitting, State, StepError,
+    };
 
     /// `f32` whose `sin` and `cos` are micromath's approximations (about 1e-3 absolute error,
     /// no libm call): everything else is `f32`. Shows the `Real` trait taking a wrapper, and
@@ -450,6 +453,82 @@ mod firmware {
         a.step_state(s).is_ok()
     }
 
+    // ---------------------------------------------------------------- the loop's regimes
+
+    /// Instructions per step of `f(k)` (k = 0..BENCH_STEPS) less `base` per step.
+    fn per_step(base: u32, mut f: impl FnMut(u32)) -> u32 {
+        let n = instructions(|| {
+            for k in 0..BENCH_STEPS {
+                f(k);
+            }
+        });
+        (n / BENCH_STEPS).saturating_sub(base)
+    }
+
+    /// Instructions per f32 step with attitude in the four regimes of the real loop: fixed
+    /// `h`; `h` jittered by +-5% every step (`set_step_size`); `m` corrected every step by
+    /// 1e-4 relative (a filter); a torque kick every step (the forced kick–drift–kick with
+    /// the torque given). The perturbation's own cost is measured alone and removed.
+    /// Returns `[fixed, jitter, corrected, torque]`.
+    fn regimes<I: Integrator<f32> + Clone>(a0: I, s0: State<f32>, h: f32) -> [u32; 4] {
+        let empty = per_step(0, |_| {
+            core::hint::black_box(());
+        });
+        let mut noise = Noise(0x1234_5678);
+        let jitter_cost = per_step(empty, |_| {
+            core::hint::black_box(h * (1.0 + 0.1 * (noise.uniform() - 0.5)));
+        });
+        let mut s1 = s0;
+        let correct_cost = per_step(empty, |_| {
+            for x in s1.m.iter_mut() {
+                *x *= 1.0 + 2e-4 * (noise.uniform() - 0.5);
+            }
+            core::hint::black_box(&mut s1);
+        });
+        let run = |mut a: I, f: &mut dyn FnMut(&mut I, &mut State<f32>), base: u32| -> u32 {
+            let mut s = s0;
+            let _ = a.step_state(&mut s);
+            per_step(empty + base, |_| {
+                f(&mut a, &mut s);
+            })
+        };
+        let fixed = run(
+            a0.clone(),
+            &mut |a, s| {
+                let _ = a.step_state(core::hint::black_box(s));
+            },
+            0,
+        );
+        let jitter = run(
+            a0.clone(),
+            &mut |a, s| {
+                a.set_step_size(h * (1.0 + 0.1 * (noise.uniform() - 0.5)));
+                let _ = a.step_state(core::hint::black_box(s));
+            },
+            jitter_cost,
+        );
+        let corrected = run(
+            a0.clone(),
+            &mut |a, s| {
+                for x in s.m.iter_mut() {
+                    *x *= 1.0 + 2e-4 * (noise.uniform() - 0.5);
+                }
+                let _ = a.step_state(core::hint::black_box(s));
+            },
+            correct_cost,
+        );
+        let mut forced = Forced::new(a0, NoTorque);
+        let tau = [2e-4f32, -1e-4, 5e-5];
+        let neg = tau.map(|x| -x);
+        let mut s = s0;
+        let _ = forced.step_state(&mut s);
+        let torque = per_step(empty, |k| {
+            let t = if k % 2 == 0 { tau } else { neg };
+            let _ = forced.step_state_with(core::hint::black_box(&mut s), t, t);
+        });
+        [fixed, jitter, corrected, torque]
+    }
+
     // ---------------------------------------------------------------- stack painting
 
     const PAINT: u32 = 0xC0FF_EE55;
@@ -692,6 +771,58 @@ mod firmware {
             d[2]
         );
 
+        // the real loop's regimes, with attitude (f32, h = 1/200 s)
+        let s32 = State::new(m32, [1.0f32, 0.0, 0.0, 0.0]);
+        defmt::println!("with attitude, instructions/step  fixed  jitter  corrected  torque   (f32; jitter: h +-5% every step; corrected: m by 1e-4; torque: a kick every step)");
+        let r = regimes(Mv::new(body32, h), s32, h);
+        defmt::println!(
+            "mv        {=u32}  {=u32}  {=u32}  {=u32}   ratios to fixed x100: {=u32} {=u32} {=u32}",
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+            100 * r[1] / r[0].max(1),
+            100 * r[2] / r[0].max(1),
+            100 * r[3] / r[0].max(1)
+        );
+        let r = regimes(PreMv::new(body32, h, 4), s32, h);
+        defmt::println!(
+            "pre-mv4   {=u32}  {=u32}  {=u32}  {=u32}   ratios to fixed x100: {=u32} {=u32} {=u32}",
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+            100 * r[1] / r[0].max(1),
+            100 * r[2] / r[0].max(1),
+            100 * r[3] / r[0].max(1)
+        );
+        let r = regimes(PreMv::new(body32, h, 10), s32, h);
+        defmt::println!(
+            "pre-mv10  {=u32}  {=u32}  {=u32}  {=u32}   ratios to fixed x100: {=u32} {=u32} {=u32}",
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+            100 * r[1] / r[0].max(1),
+            100 * r[2] / r[0].max(1),
+            100 * r[3] / r[0].max(1)
+        );
+        // forced steps next to the free one: a torque model (constant body torque) and a rotor
+        let mut held = Forced::new(Mv::new(body32, h), ConstantTorque([1e-4f32, 0.0, -1e-4]));
+        let mut s = s32;
+        let _ = held.step_state(&mut s);
+        let model = per_step(0, |_| {
+            let _ = held.step_state(core::hint::black_box(&mut s));
+        });
+        let mut wheels = Forced::new(Mv::new(body32, h), NoTorque);
+        let rotor_ok = wheels.set_rotor([0.5f32, -0.2, 0.3]).is_ok();
+        let mut s = s32;
+        let _ = wheels.step_state(&mut s);
+        let rotor = per_step(0, |_| {
+            let _ = wheels.step_state(core::hint::black_box(&mut s));
+        });
+        defmt::println!("forced mv with attitude: torque model (constant) {=u32}, rotor {=u32} instructions/step", model, rotor);
+
         // 10^6 propagation steps of Mv in f32 with attitude: the invariants' drift
         let mut mv = Mv::new(body32, h);
         let mut s = State::new(m32, [1.0f32, 0.0, 0.0, 0.0]);
@@ -730,6 +861,6 @@ mod firmware {
             "mv instructions per momentum step: {=u32} (target <= 400)",
             mv_instr
         );
-        attitude_ok && drift_ok && ok1 && ok2 && ok3 && ok4 && ok5 && ok6
+        attitude_ok && drift_ok && rotor_ok && ok1 && ok2 && ok3 && ok4 && ok5 && ok6
     }
 }

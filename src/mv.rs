@@ -157,14 +157,6 @@ struct Advanced<T> {
     rotation: Option<Mat3<T>>,
 }
 
-/// What one step needs from the tracking: the updated data and the coefficients of this `m`.
-struct System<T> {
-    t: Track<T>,
-    k: Coefficients<T>,
-    /// The scale was chosen again (so quantities in scaled units changed).
-    resynced: bool,
-}
-
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
 ///
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
@@ -338,50 +330,46 @@ impl<T: Real> Mv<T> {
     #[inline]
     fn hold_spatial(
         &mut self,
-        before: Option<Anchor<T>>,
+        follows: bool,
         m: Vec3<T>,
         q: Quat<T>,
         next: Vec3<T>,
         q_next: Quat<T>,
     ) -> Quat<T> {
-        let prev = before
-            .filter(|a| a.last == m)
-            .and_then(|a| a.spatial)
-            .filter(|sp| sp.last_q == q);
-        let (held, sp) = match prev {
-            Some(mut sp) => {
-                if !sp.ready {
-                    let n2 = sp.pi.norm2();
-                    sp.pi = if n2 > T::ZERO && n2.is_finite() {
-                        sp.pi.scale(T::ONE / n2)
-                    } else {
-                        Vec3::new(T::ZERO, T::ZERO, T::ZERO)
-                    };
-                    sp.ready = true;
-                }
-                let pi = q_next.rotate(next);
-                let half = pi.cross(sp.pi).scale(c::<T>(0.5));
-                // (0, half) (x) q'
-                let turned = Quat {
-                    w: q_next.w - half.dot(q_next.vector()),
-                    x: q_next.x + (half.x * q_next.w + (half.y * q_next.z - half.z * q_next.y)),
-                    y: q_next.y + (half.y * q_next.w + (half.z * q_next.x - half.x * q_next.z)),
-                    z: q_next.z + (half.z * q_next.w + (half.x * q_next.y - half.y * q_next.x)),
-                };
-                (if turned.is_finite() { turned } else { q_next }, sp)
-            }
-            None => (
-                q_next,
-                Spatial {
+        let Some(anchor) = self.anchor.as_mut() else {
+            return q_next;
+        };
+        let sp = match anchor.spatial.as_mut() {
+            Some(sp) if follows => sp,
+            _ => {
+                anchor.spatial = Some(Spatial {
                     pi: q.rotate(m),
                     ready: false,
                     last_q: q_next,
-                },
-            ),
+                });
+                return q_next;
+            }
         };
-        if let Some(a) = self.anchor.as_mut() {
-            a.spatial = Some(Spatial { last_q: held, ..sp });
+        if !sp.ready {
+            let n2 = sp.pi.norm2();
+            sp.pi = if n2 > T::ZERO && n2.is_finite() {
+                sp.pi.scale(T::ONE / n2)
+            } else {
+                Vec3::new(T::ZERO, T::ZERO, T::ZERO)
+            };
+            sp.ready = true;
         }
+        let pi = q_next.rotate(next);
+        let half = pi.cross(sp.pi).scale(c::<T>(0.5));
+        // (0, half) (x) q'
+        let turned = Quat {
+            w: q_next.w - half.dot(q_next.vector()),
+            x: q_next.x + (half.x * q_next.w + (half.y * q_next.z - half.z * q_next.y)),
+            y: q_next.y + (half.y * q_next.w + (half.z * q_next.x - half.x * q_next.z)),
+            z: q_next.z + (half.z * q_next.w + (half.x * q_next.y - half.y * q_next.x)),
+        };
+        let held = if turned.is_finite() { turned } else { q_next };
+        sp.last_q = held;
         held
     }
 
@@ -421,19 +409,19 @@ impl<T: Real> Mv<T> {
     /// and after outside changes, and keeping it out of line keeps the step's code small.
     #[cold]
     #[inline(never)]
-    fn resync(&mut self, m: Vec3<T>) -> Result<Track<T>, StepError> {
-        if !self.h.is_finite() {
+    fn resync(body: &Body<T>, h: T, m: Vec3<T>) -> Result<Track<T>, StepError> {
+        if !h.is_finite() {
             return Err(StepError::NonFinite);
         }
-        let j = self.body.mass_matrix_vec();
-        let hm = m.max_abs() * self.h.abs();
+        let j = body.mass_matrix_vec();
+        let hm = m.max_abs() * h.abs();
         let kappa = j.max_abs().max(hm);
         if !kappa.is_finite() {
             return Err(StepError::Overflow);
         }
         let mut t = Track {
             kappa,
-            hn: self.h / kappa,
+            hn: h / kappa,
             delta: T::ZERO,
             inv_dg: T::ZERO,
             tol_unit: c::<T>(2.0) * T::EPSILON.sqrt(),
@@ -454,7 +442,7 @@ impl<T: Real> Mv<T> {
                 return Ok(t);
             }
         }
-        self.solve_exactly(t, &k)
+        Self::solve_exactly(t, &k)
     }
 
     /// The exact solve of the quartic (cubic roots with `acos`/`cos`/`cbrt`), polished on the
@@ -462,7 +450,7 @@ impl<T: Real> Mv<T> {
     /// (`h |Omega|` of order one).
     #[cold]
     #[inline(never)]
-    fn solve_exactly(&self, mut t: Track<T>, k: &Coefficients<T>) -> Result<Track<T>, StepError> {
+    fn solve_exactly(mut t: Track<T>, k: &Coefficients<T>) -> Result<Track<T>, StepError> {
         let s0 = t.s0;
         let s1 = quartic_largest_root(k.big_a, k.big_b, t.s3).ok_or(StepError::StepTooLarge)?;
         // polish delta on the cancellation-free g: s1 - s0 has only absolute accuracy
@@ -498,13 +486,22 @@ impl<T: Real> Mv<T> {
     /// needed only when `m` is not the momentum returned last: otherwise its invariants, which
     /// decide existence, are those of a step that existed.
     #[inline(always)]
-    fn system(&mut self, m: Vec3<T>, free_running: bool) -> Result<System<T>, StepError> {
-        let mut resynced = self.track.is_none();
-        let mut t = match self.track {
-            Some(t) => t,
-            None => self.resync(m)?,
+    fn system(
+        &mut self,
+        m: Vec3<T>,
+        free_running: bool,
+    ) -> Result<(Coefficients<T>, bool), StepError> {
+        // the tracking data is updated in place: copying it in and out (30 words) made the
+        // compiler call memcpy, which on a Cortex-M4F cost more than the step itself
+        let mut resynced = false;
+        if self.track.is_none() {
+            self.track = Some(Self::resync(&self.body, self.h, m)?);
+            resynced = true;
+        }
+        let Some(t) = self.track.as_mut() else {
+            return Err(StepError::Degenerate);
         };
-        let mut k = t.coefficients(m);
+        let k = t.coefficients(m);
         if !free_running && !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
@@ -517,11 +514,10 @@ impl<T: Real> Mv<T> {
         } else if !t.newton(&k) {
             // far from the tracked root (a large change of m or h): solve exactly, with the
             // scale re-chosen for this m
-            t = self.resync(m)?;
-            k = t.coefficients(m);
-            resynced = true;
+            *t = Self::resync(&self.body, self.h, m)?;
+            return Ok((t.coefficients(m), true));
         }
-        Ok(System { t, k, resynced })
+        Ok((k, resynced))
     }
 
     /// One momentum step; returns the new momentum and, for `step_state`, `X^T`.
@@ -532,8 +528,11 @@ impl<T: Real> Mv<T> {
     /// addition rounds `m`. `Delta`'s diagonal is `delta j_i - (s2 - s2_0) - a_i + |mm|^2`, its
     /// off-diagonal `j_i M_ij - L^T_ij`.
     fn advance<const WITH_ROTATION: bool>(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
-        let follows = matches!(self.anchor, Some(a) if a.last == m);
-        let System { t, k, resynced } = self.system(m, follows && !self.recheck)?;
+        let follows = matches!(&self.anchor, Some(a) if a.last == m);
+        let (k, resynced) = self.system(m, follows && !self.recheck)?;
+        let Some(t) = self.track.as_ref() else {
+            return Err(StepError::Degenerate);
+        };
         let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
         // X is orthogonal only to round-off, and that round-off is correlated along the
         // orbit, so |m|^2 and the energy would drift (|m|^2 by 7.6e-12 in f64, 2e-3 in f32
@@ -544,12 +543,12 @@ impl<T: Real> Mv<T> {
         // x m + y (j^2 m). They are kept in the step's scaled units (|m|^2 itself overflows f32
         // above 1.8e19), and re-taken when the caller changed m (a filter's correction is kept,
         // not undone) or the scale moved.
-        let (anchor, (corr, corr_v)) = match self.anchor {
-            Some(mut a) if follows && !resynced => {
-                let xy = a.correction(&k, &t);
-                (a, xy)
+        let (corr, corr_v) = match self.anchor.as_mut() {
+            Some(a) if follows && !resynced => a.correction(&k, t),
+            _ => {
+                self.anchor = Some(Anchor::take(m, &k, t.hn));
+                (T::ZERO, T::ZERO)
             }
-            _ => (Anchor::take(m, &k, t.hn), (T::ZERO, T::ZERO)),
         };
         // the correction is tiny: it goes into the increment, never into a product with m
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp); the
@@ -607,12 +606,10 @@ impl<T: Real> Mv<T> {
         } else {
             None
         };
-        self.track = Some(t);
         self.recheck = false;
-        self.anchor = Some(Anchor {
-            last: next,
-            ..anchor
-        });
+        if let Some(a) = self.anchor.as_mut() {
+            a.last = next;
+        }
         Ok(Advanced { next, rotation })
     }
 }
@@ -868,7 +865,12 @@ impl<T: Real> Integrator<T> for Mv<T> {
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
-        let saved = (self.track, self.anchor);
+        // whether the attitude is the one returned last, decided before the step moves the
+        // anchor on (a flag, not a copy: see `system`)
+        let follows_q = matches!(
+            &self.anchor,
+            Some(Anchor { last, spatial: Some(sp), .. }) if *last == v && sp.last_q == q
+        );
         let step = self.advance::<true>(v)?;
         let x = match step.rotation {
             Some(xt) => complete_rotation(xt.transpose(), self.body.mass_matrix_vec()),
@@ -876,12 +878,8 @@ impl<T: Real> Integrator<T> for Mv<T> {
         };
         let next = step.next;
         let q_next = compose_attitude(q, Quat::from_mat3(&x));
-        let held = self.hold_spatial(saved.1, v, q, next, q_next);
-        let r = write_state(s, next, held);
-        if r.is_err() {
-            (self.track, self.anchor) = saved;
-        }
-        r
+        let held = self.hold_spatial(follows_q, v, q, next, q_next);
+        write_state(s, next, held)
     }
 
     fn step_size(&self) -> T {
