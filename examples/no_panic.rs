@@ -18,8 +18,9 @@ mod firmware {
     use core::ptr::{read_volatile, write_volatile};
     use cortex_m_rt::entry;
     use rigid3::{
-        Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver,
-        Splitting, Splitting2, State,
+        Body, Composed, Exact, Forced, ForcedRk4, Gravity, GravityGradient, Integrator, Midpoint,
+        Mv, PeriodicTorque, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver, Splitting, Splitting2,
+        State,
     };
 
     #[panic_handler]
@@ -150,6 +151,39 @@ mod firmware {
         }
         if wanted("exact") {
             exercise(Exact::new(body, h), k + 9);
+        }
+        if wanted("forced") {
+            let g = Gravity {
+                mg: T::from_f64(input(12)),
+                com: [input(13), input(14), input(15)].map(T::from_f64),
+            };
+            let p = PeriodicTorque {
+                amplitude: [input(16), input(17), input(18)].map(T::from_f64),
+                freq: [input(19), input(20), input(21)].map(T::from_f64),
+                phase: [input(22), input(23), input(24)].map(T::from_f64),
+            };
+            let gg = GravityGradient {
+                k: T::from_f64(input(25)),
+                n: T::from_f64(input(26)),
+                inertia: i,
+            };
+            let torque = (g, (p, gg));
+            let rotor = [input(27), input(28), input(29)].map(T::from_f64);
+            let mut f = Forced::new(Mv::new(body, h), torque);
+            let _ = f.set_rotor(rotor);
+            exercise(f, k + 10);
+            let mut f = Forced::new(PreMv::new(body, h, 6), torque);
+            let _ = f.set_rotor(rotor);
+            let mut s = State::new(i, [T::ONE, T::ZERO, T::ZERO, T::ZERO]);
+            let tau = [input(30), input(31), input(32)].map(T::from_f64);
+            output(4, f.step_state_with(&mut s, tau, tau).is_ok() as u8 as f64);
+            if let Ok(mut c) = Composed::new(Mv::new(body, h), torque, 6) {
+                let _ = c.set_rotor(rotor);
+                exercise(c, k + 11);
+            }
+            let mut r = ForcedRk4::new(body, h, torque);
+            let _ = r.set_rotor(rotor);
+            exercise(r, k + 12);
         }
     }
 
