@@ -13,6 +13,7 @@ pub mod flops;
 pub mod forced_methods;
 pub mod forced_work;
 pub mod general;
+pub mod hv_dmv;
 pub mod methods;
 pub mod propagate;
 pub mod refs;

@@ -6,6 +6,7 @@ use rigid3::{
 };
 
 use crate::general::GeneralDmv;
+use crate::hv_dmv::HvDmv;
 
 /// The method names the CLI accepts, in the order tables list them.
 pub const METHODS: &[&str] = &[
@@ -17,6 +18,7 @@ pub const METHODS: &[&str] = &[
     "retimed-mv",
     "retimed-pre-mv10",
     "seed-mv",
+    "hv-dmv",
     "splitting",
     "splitting2",
     "midpoint",
@@ -37,6 +39,7 @@ pub fn describe(name: &str) -> &'static str {
         "retimed-mv" => "DMV retimed from the exact solution: m exact, q order 2",
         "retimed-pre-mv10" => "order-10 preprocessed DMV, retimed: m exact, q order 10",
         "seed-mv" => "talk's explicit DMV (cubic + eigenvectors), order 2",
+        "hv-dmv" => "Hairer-Vilmart DMV: quaternion stage by fixed-point sweeps, order 2",
         "splitting" => "McLachlan's splitting, 3 axis rotations (5 a step), order 2",
         "splitting2" => "McLachlan's splitting with the Casimir split off, 2 rotations, order 2",
         "midpoint" => "implicit midpoint rule, Newton, order 2",
@@ -59,6 +62,7 @@ pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dy
         "retimed-mv" => Some(Box::new(RetimedMv::new(body, h, 2))),
         "retimed-pre-mv10" => Some(Box::new(RetimedMv::new(body, h, 10))),
         "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
+        "hv-dmv" => Some(Box::new(HvDmv::new(body, h))),
         "splitting" => Some(Box::new(Splitting::new(body, h))),
         "splitting2" => Some(Box::new(Splitting2::new(body, h))),
         "midpoint" => Some(Box::new(Midpoint::new(body, h))),
