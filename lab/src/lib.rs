@@ -17,5 +17,6 @@ pub mod hv_dmv;
 pub mod methods;
 pub mod propagate;
 pub mod refs;
+pub mod rng;
 pub mod scenes;
 pub mod work_precision;
