@@ -46,3 +46,48 @@ pub fn print(criterion_dir: &Path) -> bool {
     }
     any
 }
+
+/// The step sizes of the `loop` bench (`lab/benches/loop.rs`), one criterion group each.
+pub const LOOP_STEPS: [&str; 3] = ["0.001", "0.01", "0.1"];
+/// The methods of the `loop` bench.
+pub const LOOP_METHODS: [&str; 3] = ["mv", "hv-dmv", "splitting"];
+/// Steps per timed batch in the `loop` bench.
+pub const LOOP_BATCH: usize = 1000;
+
+/// Prints the table of the `loop` bench (`cargo bench -p rigid3-lab --bench loop`): ns per
+/// step of each method per step size, and the ratios mv/hv-dmv and mv/splitting.
+pub fn print_loop(criterion_dir: &Path) -> bool {
+    let mut any = false;
+    println!(
+        "Host time per step with attitude, talk's case, f64, batches of {LOOP_BATCH} consecutive \
+         steps (criterion medians, one run)"
+    );
+    println!(
+        "{:<8} {:>10} {:>10} {:>10} {:>12} {:>14}",
+        "h", "mv", "hv-dmv", "splitting", "mv/hv-dmv", "mv/splitting"
+    );
+    for h in LOOP_STEPS {
+        let group = format!("loop-h{h}");
+        let ns = LOOP_METHODS
+            .map(|m| median_ns(criterion_dir, &group, m).map(|t| t / LOOP_BATCH as f64));
+        if ns.iter().all(Option::is_none) {
+            continue;
+        }
+        any = true;
+        let cell = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |t| format!("{t:.1}"));
+        let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
+            (Some(a), Some(b)) => format!("{:.3}", a / b),
+            _ => "-".to_string(),
+        };
+        println!(
+            "{:<8} {:>10} {:>10} {:>10} {:>12} {:>14}",
+            h,
+            cell(ns[0]),
+            cell(ns[1]),
+            cell(ns[2]),
+            ratio(ns[0], ns[1]),
+            ratio(ns[0], ns[2])
+        );
+    }
+    any
+}
