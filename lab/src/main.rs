@@ -100,6 +100,56 @@ enum Command {
         #[arg(long, default_value_t = 0.1)]
         h: f64,
     },
+    /// Table of the `loop` bench (`cargo bench -p rigid3-lab --bench loop`): ns per step of
+    /// mv, hv-dmv and splitting at h = 0.001, 0.01, 0.1 and the ratios mv/hv-dmv, mv/splitting.
+    LoopTable {
+        /// Criterion's output folder.
+        #[arg(long, default_value = "target/criterion")]
+        dir: std::path::PathBuf,
+    },
+    /// Host ns per step with attitude of mv, pre-mv4, pre-mv10 (and the 5-rotation splitting)
+    /// in f64 and f32 when h, m or the torque change every step: regimes fixed, jitter
+    /// (set_step_size with h0 +-5%), corrected (m_i *= 1 + 1e-4 r_i), torque (m += h tau).
+    /// Spacecraft of examples/attitude.rs, h0 = 1/200; best of 3 batches after a warm-up.
+    LoopCost {
+        /// Steps per timed batch.
+        #[arg(long, default_value_t = rigid3_lab::loop_cost::DEFAULT_STEPS)]
+        steps: usize,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// A long run with attitude: max relative drift of |m|^2, E and R(q) m so far at every
+    /// decade of steps (10, 100, ..., and the last). The invariants are evaluated in f64 from
+    /// the state after every step (not sampled; 10^8 f32 mv steps take well under a minute).
+    /// Defaults: the spacecraft of examples/attitude.rs (principal moments, m0 and q0 from its
+    /// inertia tensor and tumble rate), h = 1/200.
+    Soak {
+        /// Method name (see `rigid3-lab methods`).
+        #[arg(long)]
+        method: String,
+        /// Steps.
+        #[arg(long)]
+        steps: u64,
+        /// Compute in f32 instead of f64.
+        #[arg(long)]
+        f32: bool,
+        /// Step size.
+        #[arg(long, default_value_t = rigid3_lab::scenes::SPACECRAFT_H, allow_hyphen_values = true)]
+        h: f64,
+        /// Principal moments of inertia I1,I2,I3 (default: the spacecraft's).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        inertia: Option<Vec<f64>>,
+        /// Initial body momentum x,y,z (default: the spacecraft's).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        m0: Option<Vec<f64>>,
+        /// Initial attitude w,x,y,z, body to space (default: the spacecraft's).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        q0: Option<Vec<f64>>,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -232,6 +282,77 @@ fn main() -> ExitCode {
         Command::Claims => {
             rigid3_lab::claims::print(&rigid3_lab::claims::measure());
             ExitCode::SUCCESS
+        }
+        Command::LoopTable { dir } => {
+            if rigid3_lab::bench_table::print_loop(&dir) {
+                ExitCode::SUCCESS
+            } else {
+                eprintln!(
+                    "no loop-bench results under {}: run `cargo bench -p rigid3-lab --bench loop`",
+                    dir.display()
+                );
+                ExitCode::FAILURE
+            }
+        }
+        Command::LoopCost { steps, json } => match rigid3_lab::loop_cost::measure(steps) {
+            Ok(r) => {
+                if json {
+                    println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+                } else {
+                    rigid3_lab::loop_cost::print(&r);
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Command::Soak {
+            method,
+            steps,
+            f32,
+            h,
+            inertia,
+            m0,
+            q0,
+            json,
+        } => {
+            let (si, sm, sq) = rigid3_lab::scenes::spacecraft();
+            let parsed = (
+                inertia.map_or(Ok(si), <[f64; 3]>::try_from),
+                m0.map_or(Ok(sm), <[f64; 3]>::try_from),
+                q0.map_or(Ok(sq), <[f64; 4]>::try_from),
+            );
+            let (Ok(inertia), Ok(m0), Ok(q0)) = parsed else {
+                eprintln!(
+                    "error: --inertia and --m0 take three comma-separated numbers, --q0 four"
+                );
+                return ExitCode::FAILURE;
+            };
+            let r = if f32 {
+                rigid3_lab::soak::soak::<f32>(&method, inertia, m0, q0, h, steps)
+            } else {
+                rigid3_lab::soak::soak::<f64>(&method, inertia, m0, q0, h, steps)
+            };
+            match r {
+                Ok(r) => {
+                    if json {
+                        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+                    } else {
+                        rigid3_lab::soak::print(&r);
+                    }
+                    if r.error.is_some() {
+                        ExitCode::FAILURE
+                    } else {
+                        ExitCode::SUCCESS
+                    }
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
         }
         Command::Demo => {
             rigid3_lab::demo::print_demo();

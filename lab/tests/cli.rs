@@ -100,3 +100,111 @@ fn bad_input_is_reported() {
     let (ok, out) = lab(&args);
     assert!(!ok && out.contains("past the method's limit"), "{out}");
 }
+
+fn run_json(args: &[&str]) -> serde_json::Value {
+    let (ok, out) = lab(args);
+    assert!(ok, "{out}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"))
+}
+
+#[test]
+fn loop_cost_json_has_every_method_precision_and_regime() {
+    let v = run_json(&["loop-cost", "--json", "--steps", "2000"]);
+    let rows = v["rows"].as_array().expect("rows");
+    let regimes = ["fixed", "jitter", "corrected", "torque"];
+    let find = |method: &str, precision: &str, regime: &str| {
+        let hits: Vec<&serde_json::Value> = rows
+            .iter()
+            .filter(|r| {
+                r["method"] == method && r["precision"] == precision && r["regime"] == regime
+            })
+            .collect();
+        assert_eq!(hits.len(), 1, "{method} {precision} {regime}");
+        hits[0].clone()
+    };
+    for precision in ["f64", "f32"] {
+        for method in ["mv", "pre-mv4", "pre-mv10", "splitting"] {
+            for regime in regimes {
+                let r = find(method, precision, regime);
+                let ns = r["ns_per_step"].as_f64().unwrap();
+                let ratio = r["ratio_to_fixed"].as_f64().unwrap();
+                assert!(ns > 0.0 && ns.is_finite(), "{r}");
+                assert!(ratio > 0.0 && ratio.is_finite(), "{r}");
+                if regime == "fixed" {
+                    assert_eq!(ratio, 1.0);
+                }
+            }
+        }
+    }
+    // 4 regimes x 3 methods x 2 precisions, and the splitting's 4 x 2
+    assert_eq!(rows.len(), 4 * 3 * 2 + 4 * 2);
+    assert!(rows
+        .iter()
+        .all(|r| regimes.contains(&r["regime"].as_str().unwrap())));
+}
+
+fn drifts(v: &serde_json::Value) -> Vec<(u64, [f64; 3])> {
+    v["checkpoints"]
+        .as_array()
+        .expect("checkpoints")
+        .iter()
+        .map(|c| {
+            (
+                c["steps"].as_u64().unwrap(),
+                [
+                    c["casimir"].as_f64().unwrap(),
+                    c["energy"].as_f64().unwrap(),
+                    c["spatial"].as_f64().unwrap(),
+                ],
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn soak_reports_growing_drift_at_every_decade() {
+    let v = run_json(&["soak", "--json", "--method", "mv", "--steps", "10000"]);
+    let c = drifts(&v);
+    let steps: Vec<u64> = c.iter().map(|x| x.0).collect();
+    assert_eq!(steps, vec![10, 100, 1000, 10_000]);
+    for k in 1..c.len() {
+        for i in 0..3 {
+            assert!(c[k].1[i] >= c[k - 1].1[i], "{c:?}");
+        }
+    }
+    let last = c.last().unwrap().1;
+    assert!(last.iter().all(|&d| (0.0..=1e-12).contains(&d)), "{last:?}");
+    assert_eq!(v["precision"], "f64");
+    assert!(v["error"].is_null());
+}
+
+#[test]
+fn soak_takes_the_scene_the_precision_and_the_end() {
+    let v = run_json(&[
+        "soak",
+        "--json",
+        "--method",
+        "hv-dmv",
+        "--f32",
+        "--steps",
+        "2500",
+        "--h",
+        "0.1",
+        "--inertia",
+        "0.9145,1.0981,1.66",
+        "--m0",
+        "0.4165,0.9072,0.0588",
+        "--q0",
+        "1,0,0,0",
+    ]);
+    assert_eq!(v["precision"], "f32");
+    assert_eq!(v["h"], 0.1);
+    let c = drifts(&v);
+    assert_eq!(
+        c.iter().map(|x| x.0).collect::<Vec<_>>(),
+        vec![10, 100, 1000, 2500]
+    );
+    assert!(c.last().unwrap().1.iter().all(|&d| d < 1e-4), "{c:?}");
+    let (ok, out) = lab(&["soak", "--method", "nope", "--steps", "10"]);
+    assert!(!ok && out.contains("unknown method"), "{out}");
+}
