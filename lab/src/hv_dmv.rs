@@ -104,7 +104,7 @@ impl<T: Real> HvDmv<T> {
 
     /// Solves the stage equation for `m`: the Rodrigues vector `c` and `alpha = 1 + |c|^2`.
     fn stage(&mut self, m: &[T; 3]) -> Result<([T; 3], T), StepError> {
-        if !(m[0].is_finite() && m[1].is_finite() && m[2].is_finite()) || !self.h.is_finite() {
+        if !(finite(m) && self.h.is_finite()) {
             return Err(StepError::NonFinite);
         }
         let [f1, f2, f3] = self.fac;
