@@ -63,8 +63,8 @@ pub fn print_loop(criterion_dir: &Path) -> bool {
          steps (criterion medians, one run)"
     );
     println!(
-        "{:<8} {:>10} {:>10} {:>10} {:>12} {:>14}",
-        "h", "mv", "hv-dmv", "splitting", "mv/hv-dmv", "mv/splitting"
+        "{:<8} {:>10} {:>10} {:>10} {:>12} {:>14} {:>14}",
+        "h", "mv", "hv-dmv", "splitting", "mv/hv-dmv", "mv/splitting", "hv sweeps/step"
     );
     for h in LOOP_STEPS {
         let group = format!("loop-h{h}");
@@ -80,14 +80,35 @@ pub fn print_loop(criterion_dir: &Path) -> bool {
             _ => "-".to_string(),
         };
         println!(
-            "{:<8} {:>10} {:>10} {:>10} {:>12} {:>14}",
+            "{:<8} {:>10} {:>10} {:>10} {:>12} {:>14} {:>14}",
             h,
             cell(ns[0]),
             cell(ns[1]),
             cell(ns[2]),
             ratio(ns[0], ns[1]),
-            ratio(ns[0], ns[2])
+            ratio(ns[0], ns[2]),
+            hv_sweeps(h.parse().unwrap_or(f64::NAN), 10 * LOOP_BATCH)
+                .map_or_else(|| "-".to_string(), |x| format!("{x:.2}"))
+        );
+    }
+    if any {
+        println!(
+            "hv sweeps/step: Gauss-Seidel sweeps after the predictor, mean over the first {} steps",
+            10 * LOOP_BATCH
         );
     }
     any
+}
+
+/// Mean sweeps per step of `HvDmv` (after its predictor) over the first `n` steps with
+/// attitude on the talk's case at step `h`, or `None` if a step fails.
+pub fn hv_sweeps(h: f64, n: usize) -> Option<f64> {
+    use rigid3::Integrator;
+    let body = rigid3::Body::<f64>::from_mass_matrix(crate::scenes::TALK_J).ok()?;
+    let mut hv = crate::hv_dmv::HvDmv::new(body, h);
+    let mut s = rigid3::State::new(crate::scenes::TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    for _ in 0..n {
+        hv.step_state(&mut s).ok()?;
+    }
+    Some(hv.mean_sweeps())
 }
