@@ -214,3 +214,26 @@ fn the_quaternion_form_of_the_dmv_equation() {
     }
     assert!(worst < 1e-14, "{worst:e}");
 }
+
+/// MATH.md §3: the fixed-point stage iteration stops converging at `h ~ 0.93` on the talk's
+/// case (first step from m0), where the DMV step itself exists up to `1.06`.
+#[test]
+fn the_iteration_fails_near_h_0_93_on_the_talks_case() {
+    let body = Body::from_mass_matrix(TALK_J).unwrap();
+    let converges = |h: f64| HvDmv::new(body, h).step(&mut TALK_M0.clone()).is_ok();
+    let (mut lo, mut hi) = (0.5, 1.06);
+    assert!(converges(lo) && !converges(hi));
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if converges(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    println!(
+        "HvDmv's first step converges up to h = {lo:.6} (Mv::max_step {:.6})",
+        Mv::max_step(&body, &TALK_M0)
+    );
+    assert!((0.85..1.0).contains(&lo), "{lo}");
+}
