@@ -1,5 +1,7 @@
-//! Link set-up for the Cortex-M firmware examples, applied only when building for bare-metal
-//! ARM (host builds and `cargo test` are untouched).
+//! Link set-up for the firmware binaries, applied only when building for bare-metal ARM (host
+//! builds and `cargo test` are untouched). It lives in this unpublished member, never in the
+//! library: a library's build script would put this 4 MiB QEMU memory map on the link path of
+//! every firmware that depends on rigid3.
 
 use std::env;
 use std::fs;
@@ -13,7 +15,7 @@ fn main() {
         let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
         fs::copy("memory.x", out.join("memory.x")).expect("memory.x is readable");
         println!("cargo:rustc-link-search={}", out.display());
-        println!("cargo:rustc-link-arg-examples=-Tlink.x");
-        println!("cargo:rustc-link-arg-examples=-Tdefmt.x");
+        println!("cargo:rustc-link-arg-bins=-Tlink.x");
+        println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
 }
