@@ -56,6 +56,9 @@ use crate::real::{c, sq, Real};
 struct Track<T> {
     /// The scale `kappa`, chosen at the exact solve (`max(J_max, h |m|)`).
     kappa: T,
+    /// `1 / kappa` (infinite for a subnormal `kappa`: then [`Track::scaled`] divides), so that
+    /// the updates after a change of `h` or of a `PreMv`'s modified body need no division.
+    inv_kappa: T,
     /// `h / kappa`, applied to `m`.
     hn: T,
     /// `J / kappa`.
@@ -102,6 +105,7 @@ impl<T: Real> Track<T> {
         let z = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
         Self {
             kappa: T::ONE,
+            inv_kappa: T::ONE,
             hn: T::ZERO,
             j: z,
             j2: z,
@@ -124,12 +128,20 @@ impl<T: Real> Track<T> {
         }
     }
 
+    /// `x / kappa`, by the stored reciprocal unless `kappa` is subnormal.
+    #[inline]
+    fn scaled(&self, x: T) -> T {
+        if self.inv_kappa.is_finite() {
+            x * self.inv_kappa
+        } else {
+            x / self.kappa
+        }
+    }
+
     /// The body's part of the tracking data for mass matrix `j` in the kept scale `kappa`
     /// (`delta` is left as it is: the start of the next Newton solve).
     fn set_mass_matrix(&mut self, j: Vec3<T>) {
-        let kappa = self.kappa;
-        // divide, not multiply by a reciprocal: 1 / kappa overflows for a subnormal kappa
-        let jn = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
+        let jn = Vec3::new(self.scaled(j.x), self.scaled(j.y), self.scaled(j.z));
         let j2 = jn.mul_elem(jn);
         let s0 = jn.x + jn.y + jn.z;
         let s2_0 = jn.x * jn.y + jn.x * jn.z + jn.y * jn.z;
@@ -421,6 +433,7 @@ impl<T: Real> Mv<T> {
         }
         let mut t = Track {
             kappa,
+            inv_kappa: T::ONE / kappa,
             hn: h / kappa,
             delta: T::ZERO,
             inv_dg: T::ZERO,
@@ -896,8 +909,8 @@ impl<T: Real> Integrator<T> for Mv<T> {
             && old.abs() <= h.abs() * c::<T>(2.0);
         match self.track.as_mut() {
             Some(t) if near => {
-                let hn = h / t.kappa;
-                let r = hn / t.hn;
+                let hn = t.scaled(h);
+                let r = h / old;
                 t.hn = hn;
                 t.delta *= sq(r);
                 if let Some(a) = self.anchor.as_mut() {
