@@ -221,6 +221,8 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
     tau0: Vec3<T>,
 ) -> Result<Kicked<T>, StepError> {
     let half = h * c::<T>(0.5);
+    // a non-finite m, q or tau0 makes the drift's input non-finite, and the drift refuses it
+    // (NonFinite): no checks of their own on the loop's path
     let mut m = m.add(tau0.scale(half));
     let mut q = q;
     if let Some(p) = turn {
@@ -229,18 +231,20 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
     }
     let mut s = State::new(m.to_array(), q.to_array());
     drift.step_state(&mut s)?;
+    // the drift's output is finite and the turn keeps it so
     let (mut m, mut q) = (Vec3::from_array(s.m), Quat::from_array(s.q));
     if let Some(p) = turn {
         m = unrotate(p, m);
         q = compose_attitude(q, p);
     }
     let tau1 = Vec3::from_array(torque.torque(t1, &q.to_array()));
-    if !tau1.is_finite() {
-        return Err(StepError::NonFinite);
-    }
     let m = m.add(tau1.scale(half));
-    if !(m.is_finite() && q.is_finite()) {
-        return Err(StepError::Overflow);
+    if !m.is_finite() {
+        return Err(if tau1.is_finite() {
+            StepError::Overflow
+        } else {
+            StepError::NonFinite
+        });
     }
     Ok((m, q, tau1))
 }
@@ -384,11 +388,22 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         tau_start: [T; 3],
         tau_end: [T; 3],
     ) -> Result<(), StepError> {
-        let (m, q) = checked_state(s)?;
-        let (tau0, tau1) = (Vec3::from_array(tau_start), Vec3::from_array(tau_end));
-        if !(tau0.is_finite() && tau1.is_finite()) {
+        // the state and the torques are checked on their way through the step (kdk): the
+        // drift refuses a non-finite input, the end kick a non-finite result
+        // (a turn needs the unit attitude first)
+        let (m, q) = if self.turn.is_some() {
+            checked_state(s)?
+        } else {
+            (Vec3::from_array(s.m), Quat::from_array(s.q))
+        };
+        // one test for both torques (a sum of finite values overflows only for torques that
+        // would overflow the momentum anyway), before the drift is stepped
+        let [a0, a1, a2] = tau_start;
+        let [b0, b1, b2] = tau_end;
+        if !(((a0 + a1) + (a2 + b0)) + (b1 + b2)).is_finite() {
             return Err(StepError::NonFinite);
         }
+        let tau0 = Vec3::from_array(tau_start);
         let h = self.drift.step_size();
         let given = crate::torque::ConstantTorque(tau_end);
         let (m, q, _) = kdk(&mut self.drift, &given, self.turn, h, T::ZERO, m, q, tau0)?;

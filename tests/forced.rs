@@ -350,3 +350,41 @@ fn f32_heavy_top_is_stable() {
     assert!(dp <= 1e-4, "f32 vertical momentum {dp:e}");
     assert!(de <= 1e-3, "f32 energy {de:e}");
 }
+
+#[test]
+fn given_torque_bad_input_is_refused_and_leaves_the_state_untouched() {
+    let (body, _, s0) = heavy_top();
+    let mut f = Forced::new(Mv::new(body, 0.1), NoTorque);
+    let mut s = s0;
+    f.step_state_with(&mut s, [0.1, 0.0, 0.0], [0.1, 0.0, 0.0])
+        .unwrap();
+    let before = (s, f.time());
+    let good = [0.1, -0.2, 0.05];
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        for (start, end) in [([bad, 0.0, 0.0], good), (good, [0.0, 0.0, bad])] {
+            assert_eq!(
+                f.step_state_with(&mut s, start, end),
+                Err(StepError::NonFinite)
+            );
+            assert_eq!((s, f.time()), before);
+        }
+        let mut broken = s;
+        broken.m[1] = bad;
+        assert_eq!(
+            f.step_state_with(&mut broken, good, good),
+            Err(StepError::NonFinite)
+        );
+        let mut broken = s;
+        broken.q[2] = bad;
+        assert!(f.step_state_with(&mut broken, good, good).is_err());
+        assert_eq!((s, f.time()), before);
+    }
+    // the same integrator goes on as if nothing had happened: equal to a fresh one's step
+    let mut fresh = Forced::new(Mv::new(body, 0.1), NoTorque);
+    let (mut a, mut b) = (s, s);
+    f.step_state_with(&mut a, good, good).unwrap();
+    fresh.step_state_with(&mut b, good, good).unwrap();
+    for k in 0..3 {
+        assert!((a.m[k] - b.m[k]).abs() <= 1e-14 * (1.0 + b.m[k].abs()));
+    }
+}
