@@ -205,6 +205,9 @@ pub struct Mv<T> {
     /// The step size changed since the last step: the next step checks existence even when
     /// `m` is the momentum returned last.
     recheck: bool,
+    /// The body changed since the last step: the DMV invariants are taken afresh from the
+    /// next input (they depend on `J`), while the spatial momentum is kept (it does not).
+    retake: bool,
 }
 
 /// The Casimir the trajectory must keep: taken from the input whenever it is not the
@@ -328,6 +331,7 @@ impl<T: Real> Mv<T> {
             track: None,
             anchor: None,
             recheck: false,
+            retake: false,
         }
     }
 
@@ -389,13 +393,22 @@ impl<T: Real> Mv<T> {
     /// new mass matrix is within a factor of two of the old (the scale stays valid): what
     /// [`crate::PreMv`] does when the momentum or the step changes its modified moments
     /// slightly. The next step checks existence and re-solves by Newton.
-    pub(crate) fn set_body(&mut self, body: Body<T>) {
+    ///
+    /// `from` is the momentum the next step will start from when the caller moved the one
+    /// returned last onto the trajectory's invariants (PreMv on a change of `h` alone): the
+    /// trajectory goes on, so its spatial momentum is still held. `None` when the momentum
+    /// itself changed.
+    pub(crate) fn set_body(&mut self, body: Body<T>, from: Option<[T; 3]>) {
         let j = body.mass_matrix_vec();
         let (new, old) = (j.max_abs(), self.body.mass_matrix_vec().max_abs());
         self.body = body;
         self.recheck = true;
-        // the anchored beta depends on J
-        self.anchor = None;
+        // the anchored beta depends on J: taken again at the next step
+        self.retake = true;
+        match (from, self.anchor.as_mut()) {
+            (Some(m), Some(a)) => a.last = Vec3::from_array(m),
+            _ => self.anchor = None,
+        }
         match self.track.as_mut() {
             Some(t) if new <= old * c::<T>(2.0) && old <= new * c::<T>(2.0) => {
                 t.set_mass_matrix(j);
@@ -557,9 +570,14 @@ impl<T: Real> Mv<T> {
         // above 1.8e19), and re-taken when the caller changed m (a filter's correction is kept,
         // not undone) or the scale moved.
         let (corr, corr_v) = match self.anchor.as_mut() {
-            Some(a) if follows && !resynced => a.correction(&k, t),
+            Some(a) if follows && !resynced && !self.retake => a.correction(&k, t),
             _ => {
-                self.anchor = Some(Anchor::take(m, &k, t.hn));
+                // the spatial momentum stays the trajectory's (hold_spatial re-takes it if
+                // the attitude changed too)
+                let spatial = self.anchor.as_ref().and_then(|a| a.spatial);
+                let mut a = Anchor::take(m, &k, t.hn);
+                a.spatial = spatial;
+                self.anchor = Some(a);
                 (T::ZERO, T::ZERO)
             }
         };
@@ -620,6 +638,7 @@ impl<T: Real> Mv<T> {
             None
         };
         self.recheck = false;
+        self.retake = false;
         if let Some(a) = self.anchor.as_mut() {
             a.last = next;
         }

@@ -44,6 +44,12 @@ pub struct PreMv<T> {
     mv: Mv<T>,
     /// ...valid while the momentum is the one it returned last.
     last: Option<[T; 3]>,
+    /// The step changed since the last step (the trajectory goes on, its modified body not).
+    h_changed: bool,
+    /// The trajectory's true invariants `(|m|^2, m . I^-1 m)`, taken when the momentum
+    /// changed from outside: a change of `h` alone moves the momentum back onto them before
+    /// the modified body is rebuilt, so a jittering clock does not let them random-walk.
+    invariants: Option<(T, T)>,
     /// The modified moments' polynomials for this body.
     modifier: Modifier<T>,
 }
@@ -59,6 +65,8 @@ impl<T: Real> PreMv<T> {
             order,
             mv: Mv::new(body, h),
             last: None,
+            h_changed: false,
+            invariants: None,
             modifier: Modifier::new(&body, order),
         }
     }
@@ -80,18 +88,83 @@ impl<T: Real> PreMv<T> {
     }
 
     /// Makes `self.mv` the `Mv` of this trajectory: kept while `m` is the momentum returned
-    /// last, built again otherwise.
+    /// last and `h` is unchanged, updated otherwise. Returns the momentum to step from when
+    /// it is not `m` itself: after a change of `h` alone, `m` moved back onto the
+    /// trajectory's invariants.
     #[inline(always)]
-    fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
-        if !self.follows(m) {
-            self.rebuild(m)?;
+    fn prepare(&mut self, m: &[T; 3]) -> Result<Option<[T; 3]>, StepError> {
+        if self.follows(m) {
+            if !self.h_changed {
+                return Ok(None);
+            }
+            return self.retime(m).map(Some);
         }
-        Ok(())
+        self.rebuild(m, None)?;
+        let a = self.modifier.inv_i;
+        self.invariants = Some((
+            sq(m[0]) + sq(m[1]) + sq(m[2]),
+            a[0] * sq(m[0]) + a[1] * sq(m[1]) + a[2] * sq(m[2]),
+        ));
+        Ok(None)
     }
 
+    /// The update after a change of `h` alone: the trajectory goes on.
     #[cold]
     #[inline(never)]
-    fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
+    fn retime(&mut self, m: &[T; 3]) -> Result<[T; 3], StepError> {
+        let held = self.hold_invariants(m);
+        self.rebuild(&held, Some(held))?;
+        Ok(held)
+    }
+
+    /// `m` moved onto the trajectory's `|m|^2` and `m . I^-1 m` to first order (exact to
+    /// `O(eps^2)`): `m + x m + y I^-1 m` with `[[c, e], [e, g]] (x, y) = (dc, de) / 2`,
+    /// `c = |m|^2`, `e = m . I^-1 m`, `g = |I^-1 m|^2`, whose determinant is
+    /// `sum_{i<k} m_i^2 m_k^2 (1/I_i - 1/I_k)^2` (no cancellation); where it is small (near a
+    /// principal axis, or equal moments) only `|m|^2` is corrected.
+    #[inline]
+    fn hold_invariants(&self, m: &[T; 3]) -> [T; 3] {
+        let Some((c0, e0)) = self.invariants else {
+            return *m;
+        };
+        let [a0, a1, a2] = self.modifier.inv_i;
+        let [m0, m1, m2] = *m;
+        let (q0, q1, q2) = (sq(m0), sq(m1), sq(m2));
+        let (v0, v1, v2) = (a0 * m0, a1 * m1, a2 * m2);
+        let cas = q0 + q1 + q2;
+        let e = a0 * q0 + a1 * q1 + a2 * q2;
+        let g = sq(v0) + sq(v1) + sq(v2);
+        let half = c::<T>(0.5);
+        let (dc, de) = ((c0 - cas) * half, (e0 - e) * half);
+        // within 8 eps of both there is nothing worth a division: the drift stays bounded
+        // by that (it cannot random-walk past it)
+        let tol = c::<T>(4.0) * T::EPSILON;
+        if !(cas > T::ZERO) || (dc.abs() <= tol * c0 && de.abs() <= tol * e0) {
+            return *m;
+        }
+        let det = q0 * q1 * sq(a0 - a1) + q0 * q2 * sq(a0 - a2) + q1 * q2 * sq(a1 - a2);
+        let (x, y) = if det > c::<T>(1e-3) * cas * g {
+            let inv = T::ONE / det;
+            ((g * dc - e * de) * inv, (cas * de - e * dc) * inv)
+        } else {
+            (dc / cas, T::ZERO)
+        };
+        let held = [
+            m0 + (x * m0 + y * v0),
+            m1 + (x * m1 + y * v1),
+            m2 + (x * m2 + y * v2),
+        ];
+        if held.iter().all(|v| v.is_finite()) {
+            held
+        } else {
+            *m
+        }
+    }
+
+    /// Updates the modified body for momentum `m` (`from`: see [`Mv::set_body`]).
+    #[cold]
+    #[inline(never)]
+    fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
         checked_momentum(m)?;
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
@@ -101,23 +174,38 @@ impl<T: Real> PreMv<T> {
         if self.mv.step_size() != self.h {
             self.mv.set_step_size(self.h);
         }
-        self.mv.set_body(body);
+        self.mv.set_body(body, from);
         Ok(())
     }
 }
 
 impl<T: Real> Integrator<T> for PreMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
-        self.prepare(m)?;
-        self.mv.step(m)?;
+        match self.prepare(m)? {
+            // Mv leaves its input as it was on Err
+            None => self.mv.step(m)?,
+            Some(held) => {
+                let mut next = held;
+                self.mv.step(&mut next)?;
+                *m = next;
+            }
+        }
         self.last = Some(*m);
+        self.h_changed = false;
         Ok(())
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
-        self.prepare(&s.m)?;
-        self.mv.step_state(s)?;
+        match self.prepare(&s.m)? {
+            None => self.mv.step_state(s)?,
+            Some(held) => {
+                let mut next = State::new(held, s.q);
+                self.mv.step_state(&mut next)?;
+                *s = next;
+            }
+        }
         self.last = Some(s.m);
+        self.h_changed = false;
         Ok(())
     }
 
@@ -127,7 +215,7 @@ impl<T: Real> Integrator<T> for PreMv<T> {
 
     fn set_step_size(&mut self, h: T) {
         self.h = h;
-        self.last = None;
+        self.h_changed = true;
     }
 
     fn body(&self) -> &Body<T> {
@@ -136,6 +224,7 @@ impl<T: Real> Integrator<T> for PreMv<T> {
 
     fn reset(&mut self) {
         self.last = None;
+        self.h_changed = false;
         self.mv.reset();
     }
 }

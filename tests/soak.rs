@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use rigid3::{Body, Integrator, Mv, State};
+use rigid3::{Body, Integrator, Mv, PreMv, State};
 
 #[test]
 #[ignore]
@@ -34,6 +34,16 @@ fn soak_1e8_mv_steps_f64() {
 /// Max relative drift of (|m|^2, E, R(q) m) of f32 `Mv` with attitude on the firmware's
 /// spacecraft at 200 Hz, at each checkpoint (in steps), the invariants taken in f64.
 fn spacecraft_f32_drift(checkpoints: &[u64]) -> Vec<[f64; 3]> {
+    spacecraft_f32_drift_of(checkpoints, Mv::new, false)
+}
+
+/// The same for any integrator, with the step changed by a seeded +-5% every step when
+/// `jitter` (the clock of a real loop).
+fn spacecraft_f32_drift_of<I: Integrator<f32>>(
+    checkpoints: &[u64],
+    make: impl Fn(Body<f32>, f32) -> I,
+    jitter: bool,
+) -> Vec<[f64; 3]> {
     let tensor = [[120.0, -4.0, 2.5], [-4.0, 95.0, 6.0], [2.5, 6.0, 60.0]];
     let (body64, frame) = Body::<f64>::from_inertia_tensor(tensor).unwrap();
     let omega = [0.06, -0.04, 0.11];
@@ -43,7 +53,9 @@ fn spacecraft_f32_drift(checkpoints: &[u64]) -> Vec<[f64; 3]> {
     let m0 = State::new(m_sensor, conj).spatial_momentum();
     let inertia = body64.inertia();
     let body = Body::<f32>::from_inertia(inertia.map(|x| x as f32)).unwrap();
-    let mut mv = Mv::new(body, 1.0f32 / 200.0);
+    let h = 1.0f32 / 200.0;
+    let mut mv = make(body, h);
+    let mut rng = Rng::new(0x5eed);
     let mut s = State::new(m0.map(|x| x as f32), frame.map(|x| x as f32));
     let wide = |s: &State<f32>| {
         let st = State::new(s.m.map(|x| x as f64), s.q.map(|x| x as f64));
@@ -58,6 +70,9 @@ fn spacecraft_f32_drift(checkpoints: &[u64]) -> Vec<[f64; 3]> {
     let mut out = Vec::new();
     let last = checkpoints.last().copied().unwrap_or(0);
     for k in 1..=last {
+        if jitter {
+            mv.set_step_size(h * (1.0 + 0.1 * (rng.unit() as f32 - 0.5)));
+        }
         mv.step_state(&mut s).unwrap();
         if k % 16 == 0 || checkpoints.contains(&k) {
             let (c, e, p) = wide(&s);
@@ -84,6 +99,31 @@ fn f32_attitude_does_not_drift() {
             d[1][i] <= 2.0 * d[0][i].max(1e-7),
             "invariant {i} grows: {d:?}"
         );
+    }
+}
+
+#[test]
+fn f32_attitude_does_not_drift_under_a_jittering_clock() {
+    // the step changes every tick, so the modified body of PreMv changes every tick too;
+    // the spatial momentum it holds must survive that
+    for (name, d) in [
+        (
+            "mv",
+            spacecraft_f32_drift_of(&[30_000, 300_000], Mv::new, true),
+        ),
+        (
+            "pre-mv4",
+            spacecraft_f32_drift_of(&[30_000, 300_000], |b, h| PreMv::new(b, h, 4), true),
+        ),
+    ] {
+        println!("{name}, f32 spacecraft, jittered h, drift at 3e4 and 3e5 steps: {d:?}");
+        for i in 0..3 {
+            assert!(d[1][i] <= 1e-5, "{name} invariant {i}: {:e}", d[1][i]);
+            assert!(
+                d[1][i] <= 3.0 * d[0][i].max(1e-7),
+                "{name} invariant {i} grows: {d:?}"
+            );
+        }
     }
 }
 
