@@ -41,6 +41,7 @@ pub enum CubicRoots<T> {
 /// Returns `None` when a coefficient is not finite or a root overflows. Accuracy: see the module docs (a few
 /// ulps times each simple root's condition number). Uses one `sqrt`, one `cbrt` and either
 /// one `acos` and three `cos` (three real roots) or one more `sqrt` and `cbrt` (one real root).
+#[must_use]
 pub fn solve_cubic<T: Real>(a: T, b: T, cc: T) -> Option<CubicRoots<T>> {
     if !(a.is_finite() && b.is_finite() && cc.is_finite()) {
         return None;
@@ -220,6 +221,7 @@ pub(crate) fn complex_sqrt<T: Real>(re: T, im: T) -> (T, T) {
 /// or the input is not finite. Accuracy: a few ulps of `s1` times the quartic's condition
 /// number at `s1`, which stays moderate because `s1` is a simple root even where two `mu_i`
 /// meet. Inputs should be of order one (the DMV steps scale them so).
+#[must_use]
 pub fn quartic_largest_root<T: Real>(big_a: T, big_b: T, s3: T) -> Option<T> {
     let roots = solve_cubic(-big_a, big_b, -sq(s3))?;
     let s = match roots {

@@ -73,11 +73,8 @@ impl fmt::Display for StepError {
     }
 }
 
-#[cfg(feature = "std")]
-extern crate std;
+// `core::error::Error` (stable since Rust 1.81): no `std` feature needed, the types work as
+// `Box<dyn Error>` and with `?` in std applications and as `dyn core::error::Error` without std.
+impl core::error::Error for BodyError {}
 
-#[cfg(feature = "std")]
-impl std::error::Error for BodyError {}
-
-#[cfg(feature = "std")]
-impl std::error::Error for StepError {}
+impl core::error::Error for StepError {}

@@ -436,8 +436,7 @@ impl<T: Real> Tumble<T> {
 /// each step evaluates it at `n h`, so stepping has no error accumulation at all: `n` steps
 /// agree with [`Exact::at`] at `n h` to round-off. If the caller changes the state between
 /// steps, or after `2^20` steps, the trajectory is set up again from the current state.
-/// `h` may be negative (backwards in time). Errors: `NonFinite` (bad input),
-/// `StepTooLarge` (the phase `omega t` exceeds `1 / (4 eps)` periods), `Overflow`.
+/// `h` may be negative (backwards in time). A step's errors are those of [`Exact::at`].
 #[derive(Clone, Copy, Debug)]
 pub struct Exact<T> {
     body: Body<T>,
@@ -460,6 +459,7 @@ const REBASE: f64 = 1_048_576.0;
 
 impl<T: Real> Exact<T> {
     /// An integrator for `body` stepping by `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -470,6 +470,14 @@ impl<T: Real> Exact<T> {
 
     /// The exact state at time `t` (any sign) from `s0`. The quaternion is continuous in `t`
     /// and equals `s0.q` (normalised) at `t = 0`.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite state or `t` or a zero quaternion,
+    /// [`StepError::StepTooLarge`] when the phase `omega t` is past what the float type can
+    /// represent (about `1 / (4 eps)` periods), [`StepError::Overflow`] when the result would
+    /// overflow, and [`StepError::Degenerate`] when the elliptic functions cannot be
+    /// evaluated for this orbit.
     pub fn at(body: &Body<T>, s0: &State<T>, t: T) -> Result<State<T>, StepError> {
         let (m, q) = checked_state(s0)?;
         if !t.is_finite() {
@@ -481,6 +489,10 @@ impl<T: Real> Exact<T> {
     }
 
     /// The exact body momentum at time `t` (any sign) from `m0`.
+    ///
+    /// # Errors
+    ///
+    /// As [`Exact::at`] (without the quaternion's).
     pub fn momentum_at(body: &Body<T>, m0: &[T; 3], t: T) -> Result<[T; 3], StepError> {
         let m = checked_momentum(m0)?;
         if !t.is_finite() {

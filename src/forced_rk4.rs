@@ -26,6 +26,7 @@ pub struct ForcedRk4<T, F> {
 
 impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
     /// RK4 for `body` with step `h` and torque model `torque`, at time zero, without rotor.
+    #[must_use]
     pub fn new(body: Body<T>, h: T, torque: F) -> Self {
         Self {
             body,

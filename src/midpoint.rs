@@ -45,6 +45,7 @@ pub struct Midpoint<T> {
 
 impl<T: Real> Midpoint<T> {
     /// A Newton-solved implicit midpoint integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -56,6 +57,7 @@ impl<T: Real> Midpoint<T> {
     }
 
     /// The same with another solver.
+    #[must_use]
     pub fn with_solver(body: Body<T>, h: T, solver: Solver) -> Self {
         Self {
             solver,
@@ -64,6 +66,7 @@ impl<T: Real> Midpoint<T> {
     }
 
     /// Iterations the last step took (whether it converged or not).
+    #[must_use]
     pub fn last_iterations(&self) -> u32 {
         self.iterations
     }

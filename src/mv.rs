@@ -324,6 +324,7 @@ impl<T: Real> Anchor<T> {
 
 impl<T: Real> Mv<T> {
     /// An integrator for `body` with step `h` (negative `h` runs backwards).
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -426,6 +427,7 @@ impl<T: Real> Mv<T> {
     ///
     /// Returns `T::MAX` for `m = 0` (every step exists) and zero for a non-finite `m`.
     /// Talk's case: `1.060273597`.
+    #[must_use]
     pub fn max_step(body: &Body<T>, m: &[T; 3]) -> T {
         max_step(body, m)
     }

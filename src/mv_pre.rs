@@ -72,11 +72,18 @@ impl<T: Real> PreMv<T> {
     }
 
     /// The order.
+    #[must_use]
     pub fn order(&self) -> u8 {
         self.order
     }
 
     /// The modified principal moments `I~` for momentum `m` (MATH.md §5).
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite `m` or step, [`StepError::StepTooLarge`]
+    /// when the series gives a non-positive modified moment (the step is too large for the
+    /// preprocessing), and [`StepError::Overflow`] when a moment would overflow.
     pub fn modified_inertia(&self, m: &[T; 3]) -> Result<[T; 3], StepError> {
         self.modifier.modified_inertia(self.h, m)
     }

@@ -40,6 +40,7 @@ pub struct RetimedMv<T> {
 
 impl<T: Real> RetimedMv<T> {
     /// A retimed DMV of `order` (2: plain DMV; 4 to 10: preprocessed) with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T, order: u8) -> Self {
         Self {
             body,
@@ -50,6 +51,12 @@ impl<T: Real> RetimedMv<T> {
     }
 
     /// The DMV step `h'` whose exact time is `h` from momentum `m`.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite `m` or `h`, the errors of the DMV steps it
+    /// tries (past the existence limit: [`StepError::StepTooLarge`]), and
+    /// [`StepError::NoConvergence`] when the secant iteration for `h'` fails.
     pub fn retimed_step(&self, m: &[T; 3]) -> Result<T, StepError> {
         retime(&self.body, self.h, self.order, m)
     }

@@ -40,11 +40,18 @@ pub struct SeedMv<T> {
 
 impl<T: Real> SeedMv<T> {
     /// An integrator for `body` with step `h` (any finite `h`, negative steps run backwards).
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self { body, h }
     }
 
     /// The rotation `X` of one step from momentum `m`, as rows (`X[i][j]`), for checks.
+    ///
+    /// # Errors
+    ///
+    /// Those of the step: [`StepError::NonFinite`], [`StepError::StepTooLarge`] (the cubic
+    /// has a negative real root), [`StepError::Degenerate`] (a singular eigenvector system, a
+    /// repeated root, or an `X` that fails the orthogonality check), [`StepError::Overflow`].
     pub fn step_matrix(&self, m: &[T; 3]) -> Result<[[T; 3]; 3], StepError> {
         let x = self.solve(checked_momentum(m)?)?;
         Ok([

@@ -23,6 +23,7 @@ pub struct Rk4<T> {
 
 impl<T: Real> Rk4<T> {
     /// An RK4 integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,

@@ -116,6 +116,7 @@ pub struct Splitting<T> {
 
 impl<T: Real> Splitting<T> {
     /// A splitting integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -127,6 +128,11 @@ impl<T: Real> Splitting<T> {
     /// `n` steps at once with the half steps of consecutive steps merged:
     /// `phi_1(h/2) [phi_2(h/2) phi_3(h) phi_2(h/2) phi_1(h)]^(n-1) ... phi_1(h/2)`, four
     /// rotations a step. Same result as `n` calls of `step` up to round-off.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite `m` or step, [`StepError::Overflow`] when the
+    /// result would overflow (`m` is then left as it was).
     pub fn step_many(&mut self, m: &mut [T; 3], n: usize) -> Result<(), StepError> {
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
@@ -203,6 +209,7 @@ pub struct Splitting2<T> {
 
 impl<T: Real> Splitting2<T> {
     /// A Casimir-split integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         let [i1, i2, i3] = body.inertia();
         // a: smallest moment, b: largest, k (split off): the middle one

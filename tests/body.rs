@@ -253,3 +253,15 @@ proptest! {
         check_tensor([a, b, c], [q0 / n, q1 / n, q2 / n, q3 / n]);
     }
 }
+
+#[test]
+fn errors_are_core_errors_without_any_feature() {
+    fn describe(e: &dyn core::error::Error) -> String {
+        e.to_string()
+    }
+    assert!(describe(&rigid3::BodyError::NonFinite).contains("NaN"));
+    assert!(describe(&rigid3::StepError::StepTooLarge).contains("limit"));
+    // and as a boxed std error, through `?`
+    let boxed: Box<dyn std::error::Error> = rigid3::StepError::Overflow.into();
+    assert!(boxed.to_string().contains("overflow"));
+}
