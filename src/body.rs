@@ -8,7 +8,7 @@ use crate::real::{c, sq, Real};
 ///
 /// Holds the principal moments of inertia `I = (I1, I2, I3)` and the Moser–Veselov mass
 /// matrix `J = diag(J1, J2, J3)` with `I_i = J_j + J_k`, i.e. `J_i = (I_j + I_k - I_i) / 2`
-/// (MATH.md §1; Moser & Veselov, Comm. Math. Phys. 139 (1991) 217). A physical body has
+/// (docs/MATH.md §1; Moser & Veselov, Comm. Math. Phys. 139 (1991) 217). A physical body has
 /// `J_i >= 0` (the triangle inequality `I_i <= I_j + I_k`); `J_i = 0` is a planar body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

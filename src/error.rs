@@ -42,7 +42,8 @@ pub enum StepError {
     /// The state or the step size has a NaN or infinite entry, or the quaternion is zero.
     NonFinite,
     /// The step size is past the method's limit for this state (for DMV: the cubic of
-    /// MATH.md §2 has a negative real root, so no real orthogonal solution exists).
+    /// docs/MATH.md §2 has a negative real root, so no real orthogonal solution exists:
+    /// docs/MATH.md §3).
     StepTooLarge,
     /// An iterative solve (implicit midpoint) did not converge.
     NoConvergence,

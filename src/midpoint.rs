@@ -27,7 +27,7 @@ pub enum Solver {
 /// below `4 eps |y|`; a step that has not converged within the iteration limit returns
 /// `StepError::NoConvergence` and leaves the state as it was. Conserves every quadratic
 /// invariant (`|m|^2`, `E`) up to the solver tolerance; symmetric; error at `t = 10` on the
-/// talk's case about `0.0047 h^2` (MATH.md §7).
+/// talk's case about `0.0047 h^2` (docs/MATH.md §7).
 ///
 /// Attitude: the midpoint rule applied to `q' = 1/2 q (x) (0, Omega(y))` with the midpoint's
 /// `Omega` is linear in `q` and gives the Cayley transform

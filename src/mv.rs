@@ -1,10 +1,10 @@
 //! `Mv`: the discrete Moser–Veselov step in closed form, with no eigenvectors, no square root
-//! and no trigonometry per step (MATH.md §4).
+//! and no trigonometry per step (docs/MATH.md §4).
 //!
 //! # Derivation
 //!
 //! `W = X J` is a right solvent of `W^2 - M W - J^2 = 0` with spectrum `lambda_1..3` (the
-//! roots with `Re > 0`, MATH.md §2). With `s1 = sum lambda_i`, `s2 = sum lambda_i lambda_j`,
+//! roots with `Re > 0`, docs/MATH.md §2). With `s1 = sum lambda_i`, `s2 = sum lambda_i lambda_j`,
 //! `s3 = lambda_1 lambda_2 lambda_3 = J1 J2 J3`, Cayley–Hamilton for `W` and the solvent
 //! equation give the linear system `L W = R`,
 //!
@@ -20,12 +20,12 @@
 //! `s2 = (s1^2 - A) / 2`. `A` and `B` depend on `m` only through `|m|^2` and
 //! `sum J_i^2 m_i^2`, which the DMV map conserves, so `s1` is constant along a trajectory: it is
 //! found exactly once and then tracked by one Newton step per step, which keeps it at
-//! round-off (freezing it instead lets round-off grow without bound, MATH.md §4).
+//! round-off (freezing it instead lets round-off grow without bound, docs/MATH.md §4).
 //!
 //! # Existence
 //!
 //! A real solution exists iff the cubic `mu^3 - A mu^2 + B mu - C` (`C = s3^2`) has no negative
-//! real root (MATH.md §3). Its roots have product `C >= 0`, so either all are real (then all
+//! real root (docs/MATH.md §3). Its roots have product `C >= 0`, so either all are real (then all
 //! are positive iff `A > 0` and `B > 0`) or one is real and positive with a complex pair. Hence
 //! the step exists iff `A > 0 && B > 0`, or the discriminant of the cubic is negative: two
 //! comparisons on the common path, a discriminant only for large steps.
@@ -51,7 +51,8 @@ use crate::real::{c, sq, Real};
 ///
 /// `g(delta) = 2 u0 eps_u + eps_u^2 - 8 s3 delta + 4 beta = 0`,
 ///
-/// every term of which is small when `h` is (MATH.md §4's quartic minus its value at `h = 0`).
+/// every term of which is small when `h` is (the quartic of docs/MATH.md §4 minus its value at
+/// `h = 0`).
 #[derive(Clone, Copy, Debug)]
 struct Track<T> {
     /// The scale `kappa`, chosen at the exact solve (`max(J_max, h |m|)`).
@@ -217,7 +218,7 @@ struct Anchor<T> {
     last: Vec3<T>,
     /// The invariants of the DMV map in the step's scaled units for the current `h`:
     /// `alpha = |mm|^2` and `beta = sum j_i^2 mm_i^2` (`mm = h m / kappa`), which fix `|m|^2`
-    /// and the energy (MATH.md §2).
+    /// and the energy (docs/MATH.md §2).
     alpha: T,
     beta: T,
     /// `16 eps beta`: the energy's drift tolerated before it is corrected.
@@ -418,8 +419,8 @@ impl<T: Real> Mv<T> {
         }
     }
 
-    /// The largest `|h|` for which the DMV step from `m` exists (the cubic of MATH.md §3 keeps
-    /// no negative real root), from the polynomial conditions alone: with `t = h^2`, `A` and
+    /// The largest `|h|` for which the DMV step from `m` exists (the cubic of docs/MATH.md §2
+    /// keeps no negative real root, docs/MATH.md §3), from the polynomial conditions alone: with `t = h^2`, `A` and
     /// `B` fall linearly in `t`, the step exists while both are positive, and after that while
     /// the cubic's discriminant `D(t)` (a quartic in `t`) is negative. The first root of `D`
     /// after both stop being positive is found on a monotone piece between the roots of
@@ -497,7 +498,7 @@ impl<T: Real> Mv<T> {
             it += 1;
         }
         if !(dg > T::ZERO) || !delta.is_finite() {
-            // the largest root is simple (MATH.md §4); a flat quartic means no valid split
+            // the largest root is simple (docs/MATH.md §4); a flat quartic means no valid split
             return Err(StepError::Degenerate);
         }
         t.delta = delta;
@@ -959,7 +960,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
 
 /// Replaces the column of `X` for the smallest `J_i` by the cross product of the other two
 /// (right-handed), which is exact for a planar body and better conditioned when `J_i` is
-/// small relative to the others (MATH.md §4).
+/// small relative to the others (docs/MATH.md §4).
 fn complete_rotation<T: Real>(x: Mat3<T>, j: Vec3<T>) -> Mat3<T> {
     let small = c::<T>(1.0 / 64.0) * j.max_abs();
     if j.x <= j.y && j.x <= j.z && j.x < small {

@@ -1,5 +1,5 @@
 //! `RetimedMv`: the DMV step with its step size chosen so that its iterates land on the exact
-//! orbit exactly at the requested times (MATH.md §2, §5).
+//! orbit exactly at the requested times (docs/MATH.md §2, §5).
 //!
 //! DMV's only error is in time: its iterates lie on the exact momentum orbit at times
 //! `n tau(h')`, `tau(h') = h' (1 + tau_3 h'^2 + ...)`, with `tau` constant along a trajectory.

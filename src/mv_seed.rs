@@ -1,6 +1,6 @@
 //! `SeedMv`: the talk's explicit spectral algorithm for the 3x3 discrete Moser–Veselov step,
 //! kept as published (Zanna & McLachlan, "An explicit, completely integrable, second-order
-//! method for the 3x3 rigid body"; MATH.md §2).
+//! method for the 3x3 rigid body"; docs/MATH.md §2).
 
 use crate::body::Body;
 use crate::cubic::{complex_sqrt, solve_cubic, CubicRoots};

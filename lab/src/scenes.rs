@@ -1,4 +1,4 @@
-//! The public scenes of MATH.md §8 with their reference values.
+//! The public scenes of docs/MATH.md §8 with their reference values.
 
 /// The talk's case: mass matrix `J`.
 pub const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];

@@ -1,4 +1,4 @@
-//! Shared test fixtures: the public scenes of MATH.md §8 and a seeded generator.
+//! Shared test fixtures: the public scenes of docs/MATH.md §8 and a seeded generator.
 #![allow(dead_code)]
 // the references keep every digit the high-precision solver gave
 #![allow(clippy::excessive_precision)]
@@ -6,7 +6,7 @@
 /// The talk's case: mass matrix J and initial momentum.
 pub const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];
 pub const TALK_M0: [f64; 3] = [0.4165, 0.9072, 0.0588];
-/// Reference m(1), m(10), m(100) of the talk's case (MATH.md §8, independent high precision).
+/// Reference m(1), m(10), m(100) of the talk's case (docs/MATH.md §8, independent high precision).
 pub const TALK_M1: [f64; 3] = [
     0.40963676823852457273,
     0.91216486689156377454,
@@ -22,7 +22,7 @@ pub const TALK_M100: [f64; 3] = [
     0.62577581339461293974,
     0.40505940632949599801,
 ];
-/// Existence limit of the DMV step at the talk's initial state (MATH.md §3).
+/// Existence limit of the DMV step at the talk's initial state (docs/MATH.md §3).
 pub const TALK_MAX_STEP: f64 = 1.060273597;
 
 /// Hairer–Vilmart's driver case.
