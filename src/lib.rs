@@ -17,13 +17,13 @@
 //!
 //! | type | method | order | conserves |
 //! |---|---|---|---|
-//! | [`Mv`] | closed-form explicit DMV: one 3x3 solve, no sqrt, no trig (flagship) | 2 | `|m|^2`, `E`, `R(q) m` |
-//! | [`PreMv`] | DMV with modified moments (Hairer–Vilmart), same cost per step as `Mv` | 4–10 | `|m|^2`, `E`, `R(q) m` |
-//! | [`RetimedMv`] | DMV (or `PreMv`) with its step chosen from the exact solution: `m` exact at `t = n h` | m: exact, q: 2–10 | `|m|^2`, `E`, `R(q) m` |
-//! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors), as published | 2 | `|m|^2`, `E`, `R(q) m` |
-//! | [`Splitting`] | McLachlan's symmetric splitting, three axis rotations | 2 | `|m|^2`, `R(q) m` |
-//! | [`Splitting2`] | McLachlan's splitting with the Casimir split off, two rotations | 2 | `|m|^2`, `R(q) m` |
-//! | [`Midpoint`] | implicit midpoint, Newton or fixed point | 2 | `|m|^2`, `E` |
+//! | [`Mv`] | closed-form explicit DMV: one 3x3 solve, no sqrt, no trig (flagship) | 2 | `\|m\|^2`, `E`, `R(q) m` |
+//! | [`PreMv`] | DMV with modified moments (Hairer–Vilmart), same cost per step as `Mv` | 4–10 | `\|m\|^2`, `E`, `R(q) m` |
+//! | [`RetimedMv`] | DMV (or `PreMv`) with its step chosen from the exact solution: `m` exact at `t = n h` | m: exact, q: 2–10 | `\|m\|^2`, `E`, `R(q) m` |
+//! | [`SeedMv`] | the talk's explicit DMV (cubic + eigenvectors), as published | 2 | `\|m\|^2`, `E`, `R(q) m` |
+//! | [`Splitting`] | McLachlan's symmetric splitting, three axis rotations | 2 | `\|m\|^2`, `R(q) m` |
+//! | [`Splitting2`] | McLachlan's splitting with the Casimir split off, two rotations | 2 | `\|m\|^2`, `R(q) m` |
+//! | [`Midpoint`] | implicit midpoint, Newton or fixed point | 2 | `\|m\|^2`, `E` |
 //! | [`Rk4`] | classical Runge–Kutta | 4 | none |
 //! | [`Exact`] | the exact flow: Jacobi elliptic functions and `Pi` ([`elliptic`]) | exact | all |
 //!
@@ -78,6 +78,7 @@ mod forced;
 mod forced_rk4;
 mod integrator;
 mod linalg;
+mod max_step;
 mod midpoint;
 mod mv;
 mod mv_pre;
