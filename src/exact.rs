@@ -56,10 +56,11 @@
 //! `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)` and `|q - q_ref| <= 3.7e-14` (up to the sign of `q`);
 //! `f32`: within `1e-5` for rotations up to about 200 rad, beyond that about
 //! `eps_f32 / 2` per radian turned (the phase itself is rounded: 5e-5 after 2000 rad).
-//! Cost (talk's case, x86-64, `f64`): a momentum step about 0.4 us (per step about 60 flops,
-//! 7 `sqrt`, 17 libm calls: one `sn, cn, dn`), a step with attitude about 0.7 us (about 430
-//! flops, 34 `sqrt`, 24 libm calls: plus one `R_J`, a `sin`/`cos`), a fresh [`Exact::at`]
-//! about 1.5 us (set-up: sorting, `K`, `R_F` for the phase, `R_J` twice).
+//! Cost (talk's case, `f64`; the README's flops and host-time tables): a momentum step 60
+//! counted flops, 7 `sqrt`, 17 libm calls (one `sn, cn, dn`), about 0.4 us on x86-64; a step
+//! with attitude 431 flops, 35 `sqrt`, 24 libm calls (plus one `R_J`, a `sin`/`cos`), about
+//! 0.7 us; a fresh [`Exact::at`] about 1.5 us (set-up: sorting, `K`, `R_F` for the phase, `R_J`
+//! twice).
 
 use crate::body::Body;
 use crate::elliptic::{carlson_rf, carlson_rj, Jacobi};

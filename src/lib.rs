@@ -6,7 +6,7 @@
 //! (DMV) rigid body solved explicitly for `N = 3` (Zanna & McLachlan, "An explicit,
 //! completely integrable, second-order method for the 3x3 rigid body").
 //!
-//! ## Conventions
+//! ## Conventions (docs/MATH.md §1)
 //!
 //! - Principal moments `I = (I1, I2, I3)`; mass matrix `J_i = (I_j + I_k - I_i) / 2`.
 //! - Energy `E = 1/2 sum m_i^2 / I_i` and Casimir `|m|^2` are conserved by the flow, and so is
@@ -30,6 +30,11 @@
 //! Every method implements [`Integrator`]: `step` advances momentum only, `step_state`
 //! momentum and attitude. A step that cannot be taken returns a [`StepError`] and leaves
 //! the state as it was; no method panics or returns NaN.
+//!
+//! The formulas and conventions behind these docs are in `docs/MATH.md` (shipped with the
+//! crate; cited as "docs/MATH.md §n"). Costs (counted flops, host time, Cortex-M4F
+//! instructions, code size, stack) are measured, with the commands that measure them, in the
+//! README's tables: `Mv` takes 150 counted flops per momentum step and 367 with attitude.
 //!
 //! ## Example
 //!

@@ -175,7 +175,8 @@ struct Advanced<T> {
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
 /// `Re > 0` (Moser & Veselov 1991; the talk's eq. (2)) and sets `m_{k+1} = X^T m_k`,
 /// `R_{k+1} = R_k X`, through the linear system of the module docs: 150 counted flops per
-/// momentum step (one division) and about 370 with attitude, no `sqrt` in the momentum step,
+/// momentum step (one division) and 367 with attitude (the README's flops table, talk's case),
+/// no `sqrt` in the momentum step,
 /// no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
 /// and re-solved when the caller changes `m` (a filter's correction, a torque kick) or `h` (a
 /// jittering clock): by guarded Newton steps from the tracked value (one or two divisions,

@@ -33,8 +33,9 @@ use crate::real::{c, sq, Real};
 /// Cost per step: that of `Mv` plus a three-way comparison. When `m` or `h` changes from
 /// outside (a filter's correction, a torque kick, a jittering clock) the modified moments are
 /// updated incrementally: the polynomials of docs/MATH.md §5 are tabulated per body at
-/// construction, so an update is one evaluation (about 70 flops and three divisions) and the
-/// `Mv` of the modified body keeps its tracked root as the start of a Newton re-solve.
+/// construction, so an update is one evaluation of them and three divisions (counted in the
+/// README's flops table), and the `Mv` of the modified body keeps its tracked root as the
+/// start of a Newton re-solve.
 #[derive(Clone, Copy, Debug)]
 pub struct PreMv<T> {
     body: Body<T>,
@@ -239,8 +240,8 @@ impl<T: Real> Integrator<T> for PreMv<T> {
 
 /// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of docs/MATH.md §5
 /// as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree `k + 1`). They depend on
-/// the body only, so they are computed once (about 250 flops and the divisions for order 10)
-/// and a change of `m` or `h` costs an evaluation (about 40 flops) and three divisions.
+/// the body only, so they are computed once per body, and a change of `m` or `h` costs one
+/// evaluation and three divisions.
 #[derive(Clone, Copy, Debug)]
 struct Modifier<T> {
     order: u8,
