@@ -152,6 +152,28 @@ struct Tumble<T> {
     s0: T,
 }
 
+/// What tells the two tumbling cases apart (the momentum circling the axis of largest
+/// inertia, `|m|^2 > 2 E I_b`, or of smallest): the `(p, r, d)` frame and the squared
+/// constants of the solution, each formed without cancellation from the sorted moments.
+struct Case<T> {
+    frame: Frame,
+    /// `alpha^2`, `beta^2`, `gamma^2`: the squared coefficients of `(cn, sn, dn)`.
+    alpha2: T,
+    beta2: T,
+    gamma2: T,
+    /// The squared frequency in scaled time.
+    omega2: T,
+    /// The modulus `k^2` and its complement `1 - k^2`.
+    k2: T,
+    kc2: T,
+    /// The characteristic `nu` of the third-kind integral of the attitude.
+    nu: T,
+    /// `1` about the largest axis, `-1` about the smallest.
+    sigma: T,
+    /// The moment of inertia `i_p` of the axis `p`.
+    ip: T,
+}
+
 /// The state of a tumbling trajectory at phase `tau`: unit momentum in `(p, r, d)`, the
 /// quaternion `qz(chi) qy(theta)` and `S(tau)`.
 struct Phase<T> {
@@ -324,49 +346,59 @@ impl<T: Real> Tumble<T> {
             return None;
         }
         let largest = db >= T::ZERO;
-        let (frame, a2, b2, g2, w2, k2, kc2, nu, sigma, ip) = if largest {
+        let case = if largest {
             if !(dcb > T::ZERO) {
                 return None;
             }
-            let frame = Frame {
-                idx: [xa, xb, xc],
-                neg: [false, odd, false],
-            };
             let den = dcb * da;
-            (
-                frame,
-                dc * ia / dca,
-                dc * ib / dcb,
-                da / dca,
-                dcb * da / (ia * ib),
-                dba * dc / den,
-                dca * db / den,
-                -dba / (ia * dcb),
-                T::ONE,
-                ia,
-            )
+            Case {
+                frame: Frame {
+                    idx: [xa, xb, xc],
+                    neg: [false, odd, false],
+                },
+                alpha2: dc * ia / dca,
+                beta2: dc * ib / dcb,
+                gamma2: da / dca,
+                omega2: dcb * da / (ia * ib),
+                k2: dba * dc / den,
+                kc2: dca * db / den,
+                nu: -dba / (ia * dcb),
+                sigma: T::ONE,
+                ip: ia,
+            }
         } else {
             if !(dba > T::ZERO) {
                 return None;
             }
-            let frame = Frame {
-                idx: [xc, xb, xa],
-                neg: [false, !odd, false],
-            };
             let den = dba * dc;
-            (
-                frame,
-                da / dca,
-                da * ib / dba,
-                dc * ia / dca,
-                dba * dc / (ia * ib),
-                dcb * da / den,
-                dca * (-db) / den,
-                -ia * dcb / dba,
-                -T::ONE,
-                ic,
-            )
+            Case {
+                frame: Frame {
+                    idx: [xc, xb, xa],
+                    neg: [false, !odd, false],
+                },
+                alpha2: da / dca,
+                beta2: da * ib / dba,
+                gamma2: dc * ia / dca,
+                omega2: dba * dc / (ia * ib),
+                k2: dcb * da / den,
+                kc2: dca * (-db) / den,
+                nu: -ia * dcb / dba,
+                sigma: -T::ONE,
+                ip: ic,
+            }
         };
+        let Case {
+            frame,
+            alpha2: a2,
+            beta2: b2,
+            gamma2: g2,
+            omega2: w2,
+            k2,
+            kc2,
+            nu,
+            sigma,
+            ip,
+        } = case;
         let (alpha, beta, gamma, omega) = (a2.sqrt(), b2.sqrt(), g2.sqrt(), w2.sqrt());
         if !(alpha > T::ZERO && beta > T::ZERO && gamma > T::ZERO && omega > T::ZERO) {
             return None;
