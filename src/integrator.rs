@@ -133,6 +133,16 @@ pub(crate) fn compose_attitude<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
     }
 }
 
+/// Writes a momentum step's result if it is finite (`Overflow` otherwise, and `m` is left as
+/// it was): the last line of a `step`.
+pub(crate) fn write_momentum<T: Real>(m: &mut [T; 3], next: Vec3<T>) -> Result<(), StepError> {
+    if !next.is_finite() {
+        return Err(StepError::Overflow);
+    }
+    *m = next.to_array();
+    Ok(())
+}
+
 /// Writes a step's result into the state if it is finite (`Overflow` otherwise, and the state
 /// is left as it was): the last line of every `step_state`.
 pub(crate) fn write_state<T: Real>(

@@ -3,7 +3,8 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+    checked_momentum, checked_state, compose_attitude, write_momentum, write_state, Integrator,
+    State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, Real};
@@ -125,11 +126,7 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
         let y = self.midpoint(v)?;
         // m_{k+1} = 2 y - m_k
         let next = y.scale(c::<T>(2.0)).sub(v);
-        if !next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        *m = next.to_array();
-        Ok(())
+        write_momentum(m, next)
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {

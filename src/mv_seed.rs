@@ -6,7 +6,8 @@ use crate::body::Body;
 use crate::cubic::{complex_sqrt, solve_cubic, CubicRoots};
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+    checked_momentum, checked_state, compose_attitude, write_momentum, write_state, Integrator,
+    State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
@@ -238,11 +239,7 @@ impl<T: Real> Integrator<T> for SeedMv<T> {
         let v = checked_momentum(m)?;
         let x = self.solve(v)?;
         let next = x.transpose_mul_vec(v);
-        if !next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        *m = next.to_array();
-        Ok(())
+        write_momentum(m, next)
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
