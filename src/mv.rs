@@ -425,11 +425,12 @@ impl<T: Real> Mv<T> {
     }
 
     /// The largest `|h|` for which the DMV step from `m` exists (the cubic of docs/MATH.md §2
-    /// keeps no negative real root, docs/MATH.md §3), from the polynomial conditions alone: with `t = h^2`, `A` and
-    /// `B` fall linearly in `t`, the step exists while both are positive, and after that while
-    /// the cubic's discriminant `D(t)` (a quartic in `t`) is negative. The first root of `D`
-    /// after both stop being positive is found on a monotone piece between the roots of
-    /// `D'` (a cubic) by bisection to `2 eps` relative.
+    /// keeps no negative real root, docs/MATH.md §3), from the polynomial conditions alone:
+    /// with `t = h^2`, `A` and `B` fall linearly in `t`, the step exists while both are
+    /// positive, and after that while the cubic's discriminant `D(t)` (a quartic in `t`) is
+    /// negative. The first root of `D` after both stop being positive is found on a monotone
+    /// piece between the roots of `D'` (a cubic) by bisection to `2 eps` relative
+    /// (`src/max_step.rs`).
     ///
     /// Returns `T::MAX` for `m = 0` (every step exists) and zero for a non-finite `m`.
     /// Talk's case: `1.060273597`.
@@ -574,7 +575,7 @@ impl<T: Real> Mv<T> {
         // f64, 2e-3 in f32 after 10^6 steps on the talk's case; the energy by 3e-5 in f32 on
         // the spacecraft). Each step moves its input back onto the trajectory's invariants
         // ([`Anchor::correction`]); the anchor is re-taken when the caller changed m (a
-        // filter's correction is kept, not undone) or the scale moved. (Kept inline: as a
+        // filter's correction is kept, not undone), the scale moved or the body changed. (Kept inline: as a
         // function taking `&mut Option<Anchor>` it cost an instruction per step on the M4F.)
         let (corr, corr_v) = match self.anchor.as_mut() {
             Some(a) if follows && !resynced && !self.retake => a.correction(&k, t),

@@ -238,10 +238,10 @@ impl<T: Real> Integrator<T> for PreMv<T> {
     }
 }
 
-/// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of docs/MATH.md §5
-/// as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree `k + 1`). They depend on
-/// the body only, so they are computed once per body, and a change of `m` or `h` costs one
-/// evaluation and three divisions.
+/// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of
+/// docs/MATH.md §5 as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree
+/// `k + 1`). They depend on the body only, so they are computed once per body, and a change of
+/// `m` or `h` costs one evaluation and three divisions.
 #[derive(Clone, Copy, Debug)]
 struct Modifier<T> {
     order: u8,
