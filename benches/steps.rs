@@ -4,35 +4,38 @@
 //! the table with ratios to the 3-rotation splitting.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use rigid3::{
-    Body, Exact, Forced, Gravity, Integrator, Midpoint, Mv, NoTorque, PreMv, Real, Rk4, SeedMv,
-    Solver, Splitting, Splitting2, State,
-};
+use rigid3::{Body, Forced, Gravity, Integrator, Mv, NoTorque, Real, State};
 
-const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];
-const TALK_M0: [f64; 3] = [0.4165, 0.9072, 0.0588];
+#[path = "../tests/common/cases.rs"]
+mod cases;
+use cases::{TALK_J, TALK_M0};
 const H: f64 = 0.1;
 
-/// Every method, the 3-rotation splitting first (the baseline of the ratios).
+#[path = "../tests/common/methods.rs"]
+mod methods;
+
+/// The benchmarked methods, the 3-rotation splitting first (the baseline of the ratios).
+const BENCHED: [&str; 10] = [
+    "splitting",
+    "splitting2",
+    "mv",
+    "pre-mv4",
+    "pre-mv10",
+    "seed-mv",
+    "midpoint",
+    "midpoint-fp",
+    "rk4",
+    "exact",
+];
+
 fn all_methods<T: Real + 'static>(
     body: Body<T>,
     h: T,
 ) -> Vec<(&'static str, Box<dyn Integrator<T>>)> {
-    vec![
-        ("splitting", Box::new(Splitting::new(body, h))),
-        ("splitting2", Box::new(Splitting2::new(body, h))),
-        ("mv", Box::new(Mv::new(body, h))),
-        ("pre-mv4", Box::new(PreMv::new(body, h, 4))),
-        ("pre-mv10", Box::new(PreMv::new(body, h, 10))),
-        ("seed-mv", Box::new(SeedMv::new(body, h))),
-        ("midpoint", Box::new(Midpoint::new(body, h))),
-        (
-            "midpoint-fp",
-            Box::new(Midpoint::with_solver(body, h, Solver::FixedPoint)),
-        ),
-        ("rk4", Box::new(Rk4::new(body, h))),
-        ("exact", Box::new(Exact::new(body, h))),
-    ]
+    BENCHED
+        .iter()
+        .filter_map(|&name| Some((name, methods::make_library(name, body, h)?)))
+        .collect()
 }
 
 fn bench_momentum<T: Real + 'static>(c: &mut Criterion, ty: &str) {

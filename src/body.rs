@@ -8,7 +8,7 @@ use crate::real::{c, sq, Real};
 ///
 /// Holds the principal moments of inertia `I = (I1, I2, I3)` and the Moser–Veselov mass
 /// matrix `J = diag(J1, J2, J3)` with `I_i = J_j + J_k`, i.e. `J_i = (I_j + I_k - I_i) / 2`
-/// (MATH.md §1; Moser & Veselov, Comm. Math. Phys. 139 (1991) 217). A physical body has
+/// (docs/MATH.md §1; Moser & Veselov, Comm. Math. Phys. 139 (1991) 217). A physical body has
 /// `J_i >= 0` (the triangle inequality `I_i <= I_j + I_k`); `J_i = 0` is a planar body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -20,10 +20,16 @@ pub struct Body<T> {
 impl<T: Real> Body<T> {
     /// A body from its principal moments of inertia.
     ///
-    /// Errors: `NonFinite`, `NonPositiveMoment`, `TriangleInequality` (a moment exceeds the
-    /// sum of the other two by more than `4 eps` of the largest). A `J_i` within `4 eps` of
-    /// the largest moment of zero is set to exactly zero (a planar body), so that
-    /// `I = (0.1, 0.2, 0.3)` is the flat plate it means despite binary rounding.
+    /// A `J_i` within `4 eps` of the largest moment of zero is set to exactly zero (a planar
+    /// body), so that `I = (0.1, 0.2, 0.3)` is the flat plate it means despite binary
+    /// rounding.
+    ///
+    /// # Errors
+    ///
+    /// [`BodyError::NonFinite`] for a NaN or infinite moment,
+    /// [`BodyError::NonPositiveMoment`] for a moment `<= 0`, and
+    /// [`BodyError::TriangleInequality`] when a moment exceeds the sum of the other two by
+    /// more than `4 eps` of the largest.
     pub fn from_inertia(inertia: [T; 3]) -> Result<Self, BodyError> {
         let [i1, i2, i3] = inertia;
         if !(i1.is_finite() && i2.is_finite() && i3.is_finite()) {
@@ -52,6 +58,12 @@ impl<T: Real> Body<T> {
 
     /// A body from the Moser–Veselov mass matrix `J = diag(J1, J2, J3)`, `J_i >= 0`, at most
     /// one of them zero (two zeros would give a zero moment of inertia).
+    ///
+    /// # Errors
+    ///
+    /// [`BodyError::NonFinite`] for a NaN or infinite entry (or moments `J_j + J_k` that
+    /// overflow), [`BodyError::NegativeMassMatrix`] for a `J_i < 0`, and
+    /// [`BodyError::NonPositiveMoment`] when two entries are zero.
     pub fn from_mass_matrix(mass_matrix: [T; 3]) -> Result<Self, BodyError> {
         let [j1, j2, j3] = mass_matrix;
         if !(j1.is_finite() && j2.is_finite() && j3.is_finite()) {
@@ -84,8 +96,12 @@ impl<T: Real> Body<T> {
     /// Method: cyclic Jacobi rotations (at most 12 sweeps; it converges quadratically and
     /// needs about 4 for a 3x3), so eigenvalues are accurate to a few ulps of the largest
     /// and the recomposed tensor matches the input to about `8 eps |A|`.
-    /// Errors: `NonFinite`, `NotSymmetric` (beyond `64 eps |A|`), and those of
-    /// [`Body::from_inertia`].
+    ///
+    /// # Errors
+    ///
+    /// [`BodyError::NonFinite`] for a NaN or infinite entry, [`BodyError::NotSymmetric`] when
+    /// the tensor is not symmetric to `64 eps |A|`, and those of [`Body::from_inertia`] for
+    /// its principal moments (not positive definite, or not a physical body).
     pub fn from_inertia_tensor(tensor: [[T; 3]; 3]) -> Result<(Self, [T; 4]), BodyError> {
         let (values, axes) = principal_axes(tensor)?;
         let body = Self::from_inertia(values)?;
@@ -97,27 +113,32 @@ impl<T: Real> Body<T> {
     }
 
     /// Principal moments of inertia `(I1, I2, I3)`.
+    #[must_use]
     pub fn inertia(&self) -> [T; 3] {
         self.inertia
     }
 
     /// Moser–Veselov mass matrix `(J1, J2, J3)`, `J_i = (I_j + I_k - I_i) / 2`.
+    #[must_use]
     pub fn mass_matrix(&self) -> [T; 3] {
         self.mass_matrix
     }
 
     /// Kinetic energy `E = 1/2 sum m_i^2 / I_i`, conserved by the flow.
+    #[must_use]
     pub fn energy(&self, m: &[T; 3]) -> T {
         let [i1, i2, i3] = self.inertia;
         c::<T>(0.5) * (sq(m[0]) / i1 + sq(m[1]) / i2 + sq(m[2]) / i3)
     }
 
     /// The Casimir `|m|^2`, conserved by the flow.
+    #[must_use]
     pub fn casimir(&self, m: &[T; 3]) -> T {
         sq(m[0]) + sq(m[1]) + sq(m[2])
     }
 
     /// Body angular velocity `Omega = I^-1 m`.
+    #[must_use]
     pub fn angular_velocity(&self, m: &[T; 3]) -> [T; 3] {
         let [i1, i2, i3] = self.inertia;
         [m[0] / i1, m[1] / i2, m[2] / i3]

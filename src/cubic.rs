@@ -41,6 +41,7 @@ pub enum CubicRoots<T> {
 /// Returns `None` when a coefficient is not finite or a root overflows. Accuracy: see the module docs (a few
 /// ulps times each simple root's condition number). Uses one `sqrt`, one `cbrt` and either
 /// one `acos` and three `cos` (three real roots) or one more `sqrt` and `cbrt` (one real root).
+#[must_use]
 pub fn solve_cubic<T: Real>(a: T, b: T, cc: T) -> Option<CubicRoots<T>> {
     if !(a.is_finite() && b.is_finite() && cc.is_finite()) {
         return None;
@@ -210,16 +211,17 @@ pub(crate) fn complex_sqrt<T: Real>(re: T, im: T) -> (T, T) {
     }
 }
 
-/// Largest real root `s1` of the DMV quartic `(s^2 - A)^2 - 8 s3 s - 4 B = 0` (MATH.md §4).
+/// Largest real root `s1` of the DMV quartic `(s^2 - A)^2 - 8 s3 s - 4 B = 0` (docs/MATH.md §4).
 ///
 /// The quartic's roots are `+-lambda_1 +- lambda_2 +- lambda_3` (an even number of minus
 /// signs), where `mu_i = lambda_i^2` are the roots of `mu^3 - A mu^2 + B mu - s3^2`. So the
 /// cubic is solved, `s1 = sum sqrt(mu_i)` (principal branch; a complex pair contributes twice
 /// its real part) and `s1` is polished by up to three Newton steps on the quartic. Returns
-/// `None` when the cubic has a negative real root (then no real DMV step exists: MATH.md §3)
+/// `None` when the cubic has a negative real root (then no real DMV step exists: docs/MATH.md §3)
 /// or the input is not finite. Accuracy: a few ulps of `s1` times the quartic's condition
 /// number at `s1`, which stays moderate because `s1` is a simple root even where two `mu_i`
 /// meet. Inputs should be of order one (the DMV steps scale them so).
+#[must_use]
 pub fn quartic_largest_root<T: Real>(big_a: T, big_b: T, s3: T) -> Option<T> {
     let roots = solve_cubic(-big_a, big_b, -sq(s3))?;
     let s = match roots {

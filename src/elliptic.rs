@@ -235,12 +235,14 @@ impl<T: Real> Jacobi<T> {
 
 /// Complete elliptic integral of the first kind `K(m)`, `0 <= m < 1` (AGM, DLMF 19.8.5).
 /// Relative error a few ulps. Use [`complete_k_complement`] when `1 - m` is known better.
+#[must_use]
 pub fn complete_k<T: Real>(m: T) -> Option<T> {
     complete_k_complement(T::ONE - m).filter(|_| m >= T::ZERO)
 }
 
 /// `K` as a function of the complementary parameter `mc = 1 - m`, `0 < mc <= 1`
 /// (`K ~ ln(4 / sqrt(mc))` as `mc -> 0`, DLMF 19.12.1).
+#[must_use]
 pub fn complete_k_complement<T: Real>(mc: T) -> Option<T> {
     if !(mc > T::ZERO) {
         return None;
@@ -251,6 +253,7 @@ pub fn complete_k_complement<T: Real>(mc: T) -> Option<T> {
 /// Jacobi elliptic functions `(sn(u|m), cn(u|m), dn(u|m))` for `0 <= m <= 1`
 /// (descending Landen, DLMF 22.20(ii); `m = 1`: `tanh`, `sech`, `sech`).
 /// Absolute error about `eps (1 + |u|)`; `sn^2 + cn^2 = 1`, `dn^2 + m sn^2 = 1` to round-off.
+#[must_use]
 pub fn jacobi_sn_cn_dn<T: Real>(u: T, m: T) -> Option<(T, T, T)> {
     Jacobi::new(m, T::ONE - m)?.sncndn(u)
 }
@@ -258,6 +261,7 @@ pub fn jacobi_sn_cn_dn<T: Real>(u: T, m: T) -> Option<(T, T, T)> {
 /// Carlson's degenerate integral `R_C(x, y) = R_F(x, y, y)`, `x >= 0`, `y > 0`
 /// (DLMF 19.2.17–19.2.19, written with `atan2` and `ln(1+x)` so that `x ~ y` keeps full
 /// relative accuracy).
+#[must_use]
 pub fn carlson_rc<T: Real>(x: T, y: T) -> Option<T> {
     if !(x >= T::ZERO && y > T::ZERO && x.is_finite() && y.is_finite()) {
         return None;
@@ -297,6 +301,7 @@ fn rc_one<T: Real>(e: T) -> T {
 /// `R_F(x, y, z) = 1/2 int_0^inf dt / sqrt((t + x)(t + y)(t + z))` (DLMF 19.16.1),
 /// `x, y, z >= 0`, at most one of them zero. Duplication algorithm (Carlson 1995, §2);
 /// relative error a few ulps (see the module docs for the bound).
+#[must_use]
 pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> Option<T> {
     if !(x >= T::ZERO && y >= T::ZERO && z >= T::ZERO) {
         return None;
@@ -343,6 +348,7 @@ pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> Option<T> {
 /// (DLMF 19.16.2), `x, y, z >= 0` with at most one zero, `p > 0`. Duplication algorithm
 /// (Carlson 1995, §2, in the form with `d_m`, `e_m` and `R_C(1, 1 + e_m)`, DLMF 19.36.ii);
 /// relative error a few ulps.
+#[must_use]
 pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     if !(x >= T::ZERO && y >= T::ZERO && z >= T::ZERO && p > T::ZERO) {
         return None;
@@ -420,6 +426,7 @@ fn reduce_amplitude<T: Real>(phi: T) -> Option<(T, T, T)> {
 /// Incomplete elliptic integral of the first kind
 /// `F(phi | m) = int_0^phi dt / sqrt(1 - m sin^2 t)` (DLMF 19.2.4), `0 <= m <= 1`
 /// (`m = 1` only for `|phi| < pi / 2`), any real `phi`. Through `R_F` (DLMF 19.25.5).
+#[must_use]
 pub fn incomplete_f<T: Real>(phi: T, m: T) -> Option<T> {
     let (s, co, j) = reduce_amplitude(phi)?;
     let base = s * carlson_rf(sq(co), T::ONE - m * sq(s), T::ONE)?;
@@ -433,6 +440,7 @@ pub fn incomplete_f<T: Real>(phi: T, m: T) -> Option<T> {
 /// `Pi(n; phi | m) = int_0^phi dt / ((1 - n sin^2 t) sqrt(1 - m sin^2 t))` (DLMF 19.2.7),
 /// `0 <= m <= 1`, any real `phi` with `1 - n sin^2 phi > 0` (and `n < 1`, `m < 1` when
 /// `|phi| > pi / 2`). Through `R_F` and `R_J` (DLMF 19.25.14).
+#[must_use]
 pub fn incomplete_pi<T: Real>(n: T, phi: T, m: T) -> Option<T> {
     let (s, co, j) = reduce_amplitude(phi)?;
     let delta2 = T::ONE - m * sq(s);

@@ -42,7 +42,8 @@ pub enum StepError {
     /// The state or the step size has a NaN or infinite entry, or the quaternion is zero.
     NonFinite,
     /// The step size is past the method's limit for this state (for DMV: the cubic of
-    /// MATH.md §2 has a negative real root, so no real orthogonal solution exists).
+    /// docs/MATH.md §2 has a negative real root, so no real orthogonal solution exists:
+    /// docs/MATH.md §3).
     StepTooLarge,
     /// An iterative solve (implicit midpoint) did not converge.
     NoConvergence,
@@ -73,11 +74,8 @@ impl fmt::Display for StepError {
     }
 }
 
-#[cfg(feature = "std")]
-extern crate std;
+// `core::error::Error` (stable since Rust 1.81): no `std` feature needed, the types work as
+// `Box<dyn Error>` and with `?` in std applications and as `dyn core::error::Error` without std.
+impl core::error::Error for BodyError {}
 
-#[cfg(feature = "std")]
-impl std::error::Error for BodyError {}
-
-#[cfg(feature = "std")]
-impl std::error::Error for StepError {}
+impl core::error::Error for StepError {}

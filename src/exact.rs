@@ -56,10 +56,11 @@
 //! `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)` and `|q - q_ref| <= 3.7e-14` (up to the sign of `q`);
 //! `f32`: within `1e-5` for rotations up to about 200 rad, beyond that about
 //! `eps_f32 / 2` per radian turned (the phase itself is rounded: 5e-5 after 2000 rad).
-//! Cost (talk's case, x86-64, `f64`): a momentum step about 0.4 us (per step about 60 flops,
-//! 7 `sqrt`, 17 libm calls: one `sn, cn, dn`), a step with attitude about 0.7 us (about 430
-//! flops, 34 `sqrt`, 24 libm calls: plus one `R_J`, a `sin`/`cos`), a fresh [`Exact::at`]
-//! about 1.5 us (set-up: sorting, `K`, `R_F` for the phase, `R_J` twice).
+//! Cost (talk's case, `f64`; the README's flops and host-time tables): a momentum step 60
+//! counted flops, 7 `sqrt`, 17 libm calls (one `sn, cn, dn`), about 0.4 us on x86-64; a step
+//! with attitude 431 flops, 35 `sqrt`, 24 libm calls (plus one `R_J`, a `sin`/`cos`), about
+//! 0.7 us; a fresh [`Exact::at`] about 1.5 us (set-up: sorting, `K`, `R_F` for the phase, `R_J`
+//! twice).
 
 use crate::body::Body;
 use crate::elliptic::{carlson_rf, carlson_rj, Jacobi};
@@ -149,6 +150,28 @@ struct Tumble<T> {
     inv_ip: T,
     head0: Quat<T>,
     s0: T,
+}
+
+/// What tells the two tumbling cases apart (the momentum circling the axis of largest
+/// inertia, `|m|^2 > 2 E I_b`, or of smallest): the `(p, r, d)` frame and the squared
+/// constants of the solution, each formed without cancellation from the sorted moments.
+struct Case<T> {
+    frame: Frame,
+    /// `alpha^2`, `beta^2`, `gamma^2`: the squared coefficients of `(cn, sn, dn)`.
+    alpha2: T,
+    beta2: T,
+    gamma2: T,
+    /// The squared frequency in scaled time.
+    omega2: T,
+    /// The modulus `k^2` and its complement `1 - k^2`.
+    k2: T,
+    kc2: T,
+    /// The characteristic `nu` of the third-kind integral of the attitude.
+    nu: T,
+    /// `1` about the largest axis, `-1` about the smallest.
+    sigma: T,
+    /// The moment of inertia `i_p` of the axis `p`.
+    ip: T,
 }
 
 /// The state of a tumbling trajectory at phase `tau`: unit momentum in `(p, r, d)`, the
@@ -323,49 +346,59 @@ impl<T: Real> Tumble<T> {
             return None;
         }
         let largest = db >= T::ZERO;
-        let (frame, a2, b2, g2, w2, k2, kc2, nu, sigma, ip) = if largest {
+        let case = if largest {
             if !(dcb > T::ZERO) {
                 return None;
             }
-            let frame = Frame {
-                idx: [xa, xb, xc],
-                neg: [false, odd, false],
-            };
             let den = dcb * da;
-            (
-                frame,
-                dc * ia / dca,
-                dc * ib / dcb,
-                da / dca,
-                dcb * da / (ia * ib),
-                dba * dc / den,
-                dca * db / den,
-                -dba / (ia * dcb),
-                T::ONE,
-                ia,
-            )
+            Case {
+                frame: Frame {
+                    idx: [xa, xb, xc],
+                    neg: [false, odd, false],
+                },
+                alpha2: dc * ia / dca,
+                beta2: dc * ib / dcb,
+                gamma2: da / dca,
+                omega2: dcb * da / (ia * ib),
+                k2: dba * dc / den,
+                kc2: dca * db / den,
+                nu: -dba / (ia * dcb),
+                sigma: T::ONE,
+                ip: ia,
+            }
         } else {
             if !(dba > T::ZERO) {
                 return None;
             }
-            let frame = Frame {
-                idx: [xc, xb, xa],
-                neg: [false, !odd, false],
-            };
             let den = dba * dc;
-            (
-                frame,
-                da / dca,
-                da * ib / dba,
-                dc * ia / dca,
-                dba * dc / (ia * ib),
-                dcb * da / den,
-                dca * (-db) / den,
-                -ia * dcb / dba,
-                -T::ONE,
-                ic,
-            )
+            Case {
+                frame: Frame {
+                    idx: [xc, xb, xa],
+                    neg: [false, !odd, false],
+                },
+                alpha2: da / dca,
+                beta2: da * ib / dba,
+                gamma2: dc * ia / dca,
+                omega2: dba * dc / (ia * ib),
+                k2: dcb * da / den,
+                kc2: dca * (-db) / den,
+                nu: -ia * dcb / dba,
+                sigma: -T::ONE,
+                ip: ic,
+            }
         };
+        let Case {
+            frame,
+            alpha2: a2,
+            beta2: b2,
+            gamma2: g2,
+            omega2: w2,
+            k2,
+            kc2,
+            nu,
+            sigma,
+            ip,
+        } = case;
         let (alpha, beta, gamma, omega) = (a2.sqrt(), b2.sqrt(), g2.sqrt(), w2.sqrt());
         if !(alpha > T::ZERO && beta > T::ZERO && gamma > T::ZERO && omega > T::ZERO) {
             return None;
@@ -436,8 +469,7 @@ impl<T: Real> Tumble<T> {
 /// each step evaluates it at `n h`, so stepping has no error accumulation at all: `n` steps
 /// agree with [`Exact::at`] at `n h` to round-off. If the caller changes the state between
 /// steps, or after `2^20` steps, the trajectory is set up again from the current state.
-/// `h` may be negative (backwards in time). Errors: `NonFinite` (bad input),
-/// `StepTooLarge` (the phase `omega t` exceeds `1 / (4 eps)` periods), `Overflow`.
+/// `h` may be negative (backwards in time). A step's errors are those of [`Exact::at`].
 #[derive(Clone, Copy, Debug)]
 pub struct Exact<T> {
     body: Body<T>,
@@ -460,6 +492,7 @@ const REBASE: f64 = 1_048_576.0;
 
 impl<T: Real> Exact<T> {
     /// An integrator for `body` stepping by `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -470,6 +503,14 @@ impl<T: Real> Exact<T> {
 
     /// The exact state at time `t` (any sign) from `s0`. The quaternion is continuous in `t`
     /// and equals `s0.q` (normalised) at `t = 0`.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite state or `t` or a zero quaternion,
+    /// [`StepError::StepTooLarge`] when the phase `omega t` is past what the float type can
+    /// represent (about `1 / (4 eps)` periods), [`StepError::Overflow`] when the result would
+    /// overflow, and [`StepError::Degenerate`] when the elliptic functions cannot be
+    /// evaluated for this orbit.
     pub fn at(body: &Body<T>, s0: &State<T>, t: T) -> Result<State<T>, StepError> {
         let (m, q) = checked_state(s0)?;
         if !t.is_finite() {
@@ -481,6 +522,10 @@ impl<T: Real> Exact<T> {
     }
 
     /// The exact body momentum at time `t` (any sign) from `m0`.
+    ///
+    /// # Errors
+    ///
+    /// As [`Exact::at`] (without the quaternion's).
     pub fn momentum_at(body: &Body<T>, m0: &[T; 3], t: T) -> Result<[T; 3], StepError> {
         let m = checked_momentum(m0)?;
         if !t.is_finite() {

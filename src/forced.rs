@@ -310,6 +310,7 @@ pub struct Forced<T, D, F> {
 
 impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// The free integrator `drift` driven by `torque`, at time zero, without rotor.
+    #[must_use]
     pub fn new(drift: D, torque: F) -> Self {
         Self {
             drift,

@@ -5,6 +5,7 @@ use crate::error::StepError;
 use crate::integrator::{checked_momentum, checked_state, write_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
+use crate::rk4::{attitude_rate, axpy};
 use crate::torque::Torque;
 
 /// RK4 (order 4) on `m' = m x Omega + tau(t, q)`, `Omega = I^-1 (m - h_r)`,
@@ -26,6 +27,7 @@ pub struct ForcedRk4<T, F> {
 
 impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
     /// RK4 for `body` with step `h` and torque model `torque`, at time zero, without rotor.
+    #[must_use]
     pub fn new(body: Body<T>, h: T, torque: F) -> Self {
         Self {
             body,
@@ -74,22 +76,7 @@ impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
 
     #[inline]
     fn dq(&self, m: Vec3<T>, q: Quat<T>) -> Quat<T> {
-        let w = self.omega(m).scale(c::<T>(0.5));
-        q.mul(Quat {
-            w: T::ZERO,
-            x: w.x,
-            y: w.y,
-            z: w.z,
-        })
-    }
-}
-
-fn axpy<T: Real>(q: Quat<T>, k: T, d: Quat<T>) -> Quat<T> {
-    Quat {
-        w: q.w + k * d.w,
-        x: q.x + k * d.x,
-        y: q.y + k * d.y,
-        z: q.z + k * d.z,
+        attitude_rate(q, self.omega(m))
     }
 }
 

@@ -21,12 +21,14 @@ pub struct State<T> {
 
 impl<T: Real> State<T> {
     /// A state with attitude `q` (not normalised here; steps check and normalise).
+    #[must_use]
     pub fn new(m: [T; 3], q: [T; 4]) -> Self {
         Self { m, q }
     }
 
     /// The spatial angular momentum `pi = R(q) m`, conserved exactly by the flow and, to
     /// round-off, by the DMV and splitting methods.
+    #[must_use]
     pub fn spatial_momentum(&self) -> [T; 3] {
         Quat::from_array(self.q)
             .rotate(Vec3::from_array(self.m))
@@ -40,12 +42,29 @@ impl<T: Real> State<T> {
 pub trait Integrator<T> {
     /// Advances the body angular momentum by one step (momentum-only scenes: attitude is not
     /// computed, and costs nothing).
+    ///
+    /// # Errors
+    ///
+    /// A [`StepError`] when the step cannot be taken; `m` is then left as it was. Every
+    /// method refuses non-finite input ([`StepError::NonFinite`]) and results that would
+    /// overflow ([`StepError::Overflow`]); the DMV methods refuse steps past their existence
+    /// limit ([`StepError::StepTooLarge`], see [`crate::Mv::max_step`]), the implicit
+    /// midpoint rule an iteration that does not converge ([`StepError::NoConvergence`]), and
+    /// forced integrators whose torque needs the attitude return
+    /// [`StepError::NeedsAttitude`]. Each type's docs list its own cases.
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError>;
 
     /// Advances momentum and attitude by one step.
+    ///
+    /// # Errors
+    ///
+    /// As [`Integrator::step`] (less [`StepError::NeedsAttitude`]), and
+    /// [`StepError::NonFinite`] for a zero or non-finite quaternion; the state is then left
+    /// as it was.
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError>;
 
     /// The step size `h`.
+    #[must_use]
     fn step_size(&self) -> T;
 
     /// Changes the step size. Integrators that keep per-trajectory data decide what survives
@@ -54,6 +73,7 @@ pub trait Integrator<T> {
     fn set_step_size(&mut self, h: T);
 
     /// The body being integrated (for [`crate::PreMv`] the true body, not the modified one).
+    #[must_use]
     fn body(&self) -> &Body<T>;
 
     /// Forgets per-trajectory data (tracked roots, caches), so the next step starts afresh as
@@ -111,6 +131,16 @@ pub(crate) fn compose_attitude<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
         y: q.y + (inc.y + nu * q.y),
         z: q.z + (inc.z + nu * q.z),
     }
+}
+
+/// Writes a momentum step's result if it is finite (`Overflow` otherwise, and `m` is left as
+/// it was): the last line of a `step`.
+pub(crate) fn write_momentum<T: Real>(m: &mut [T; 3], next: Vec3<T>) -> Result<(), StepError> {
+    if !next.is_finite() {
+        return Err(StepError::Overflow);
+    }
+    *m = next.to_array();
+    Ok(())
 }
 
 /// Writes a step's result into the state if it is finite (`Overflow` otherwise, and the state

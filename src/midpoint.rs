@@ -3,7 +3,8 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+    checked_momentum, checked_state, compose_attitude, write_momentum, write_state, Integrator,
+    State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, Real};
@@ -27,7 +28,7 @@ pub enum Solver {
 /// below `4 eps |y|`; a step that has not converged within the iteration limit returns
 /// `StepError::NoConvergence` and leaves the state as it was. Conserves every quadratic
 /// invariant (`|m|^2`, `E`) up to the solver tolerance; symmetric; error at `t = 10` on the
-/// talk's case about `0.0047 h^2` (MATH.md §7).
+/// talk's case about `0.0047 h^2` (docs/MATH.md §7).
 ///
 /// Attitude: the midpoint rule applied to `q' = 1/2 q (x) (0, Omega(y))` with the midpoint's
 /// `Omega` is linear in `q` and gives the Cayley transform
@@ -45,6 +46,7 @@ pub struct Midpoint<T> {
 
 impl<T: Real> Midpoint<T> {
     /// A Newton-solved implicit midpoint integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -56,6 +58,7 @@ impl<T: Real> Midpoint<T> {
     }
 
     /// The same with another solver.
+    #[must_use]
     pub fn with_solver(body: Body<T>, h: T, solver: Solver) -> Self {
         Self {
             solver,
@@ -64,6 +67,7 @@ impl<T: Real> Midpoint<T> {
     }
 
     /// Iterations the last step took (whether it converged or not).
+    #[must_use]
     pub fn last_iterations(&self) -> u32 {
         self.iterations
     }
@@ -122,11 +126,7 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
         let y = self.midpoint(v)?;
         // m_{k+1} = 2 y - m_k
         let next = y.scale(c::<T>(2.0)).sub(v);
-        if !next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        *m = next.to_array();
-        Ok(())
+        write_momentum(m, next)
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {

@@ -1,10 +1,10 @@
 //! `Mv`: the discrete Moser–Veselov step in closed form, with no eigenvectors, no square root
-//! and no trigonometry per step (MATH.md §4).
+//! and no trigonometry per step (docs/MATH.md §4).
 //!
 //! # Derivation
 //!
 //! `W = X J` is a right solvent of `W^2 - M W - J^2 = 0` with spectrum `lambda_1..3` (the
-//! roots with `Re > 0`, MATH.md §2). With `s1 = sum lambda_i`, `s2 = sum lambda_i lambda_j`,
+//! roots with `Re > 0`, docs/MATH.md §2). With `s1 = sum lambda_i`, `s2 = sum lambda_i lambda_j`,
 //! `s3 = lambda_1 lambda_2 lambda_3 = J1 J2 J3`, Cayley–Hamilton for `W` and the solvent
 //! equation give the linear system `L W = R`,
 //!
@@ -20,18 +20,18 @@
 //! `s2 = (s1^2 - A) / 2`. `A` and `B` depend on `m` only through `|m|^2` and
 //! `sum J_i^2 m_i^2`, which the DMV map conserves, so `s1` is constant along a trajectory: it is
 //! found exactly once and then tracked by one Newton step per step, which keeps it at
-//! round-off (freezing it instead lets round-off grow without bound, MATH.md §4).
+//! round-off (freezing it instead lets round-off grow without bound, docs/MATH.md §4).
 //!
 //! # Existence
 //!
 //! A real solution exists iff the cubic `mu^3 - A mu^2 + B mu - C` (`C = s3^2`) has no negative
-//! real root (MATH.md §3). Its roots have product `C >= 0`, so either all are real (then all
+//! real root (docs/MATH.md §3). Its roots have product `C >= 0`, so either all are real (then all
 //! are positive iff `A > 0` and `B > 0`) or one is real and positive with a complex pair. Hence
 //! the step exists iff `A > 0 && B > 0`, or the discriminant of the cubic is negative: two
 //! comparisons on the common path, a discriminant only for large steps.
 
 use crate::body::Body;
-use crate::cubic::{quartic_largest_root, solve_cubic, CubicRoots};
+use crate::cubic::quartic_largest_root;
 use crate::error::StepError;
 use crate::integrator::{
     checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
@@ -51,7 +51,8 @@ use crate::real::{c, sq, Real};
 ///
 /// `g(delta) = 2 u0 eps_u + eps_u^2 - 8 s3 delta + 4 beta = 0`,
 ///
-/// every term of which is small when `h` is (MATH.md §4's quartic minus its value at `h = 0`).
+/// every term of which is small when `h` is (the quartic of docs/MATH.md §4 minus its value at
+/// `h = 0`).
 #[derive(Clone, Copy, Debug)]
 struct Track<T> {
     /// The scale `kappa`, chosen at the exact solve (`max(J_max, h |m|)`).
@@ -175,7 +176,8 @@ struct Advanced<T> {
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
 /// `Re > 0` (Moser & Veselov 1991; the talk's eq. (2)) and sets `m_{k+1} = X^T m_k`,
 /// `R_{k+1} = R_k X`, through the linear system of the module docs: 150 counted flops per
-/// momentum step (one division) and 318 with attitude (two square roots: the turn's quaternion is read off the momentum pair), no `sqrt` in the momentum step,
+/// momentum step (one division) and 318 with attitude (two square roots: the turn's
+/// quaternion is read off the momentum pair), no `sqrt` in the momentum step,
 /// no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
 /// and re-solved when the caller changes `m` (a filter's correction, a torque kick) or `h` (a
 /// jittering clock): by guarded Newton steps from the tracked value (one or two divisions,
@@ -213,14 +215,18 @@ pub struct Mv<T> {
     inv_i: Vec3<T>,
 }
 
-/// The Casimir the trajectory must keep: taken from the input whenever it is not the
-/// momentum this integrator returned last (the caller changed it).
+/// The invariants the trajectory must keep: taken from the input whenever it is not the
+/// momentum this integrator returned last (the caller changed it). They are the DMV map's
+/// `alpha = |mm|^2` and `beta = sum j_i^2 mm_i^2`, which the quartic needs anyway, kept in the
+/// step's scaled units (`|m|^2` itself overflows f32 above `1.8e19`); each step moves its
+/// input back onto them to first order (exact to `O(eps^2)`) by `x m + y (j^2 m)`
+/// ([`Anchor::correction`]).
 #[derive(Clone, Copy, Debug)]
 struct Anchor<T> {
     last: Vec3<T>,
     /// The invariants of the DMV map in the step's scaled units for the current `h`:
     /// `alpha = |mm|^2` and `beta = sum j_i^2 mm_i^2` (`mm = h m / kappa`), which fix `|m|^2`
-    /// and the energy (MATH.md §2).
+    /// and the energy (docs/MATH.md §2).
     alpha: T,
     beta: T,
     /// `16 eps beta`: the energy's drift tolerated before it is corrected.
@@ -391,6 +397,7 @@ impl<T: Real> Mv<T> {
     }
 
     /// An integrator for `body` with step `h` (negative `h` runs backwards).
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -486,17 +493,19 @@ impl<T: Real> Mv<T> {
         }
     }
 
-    /// The largest `|h|` for which the DMV step from `m` exists (the cubic of MATH.md §3 keeps
-    /// no negative real root), from the polynomial conditions alone: with `t = h^2`, `A` and
-    /// `B` fall linearly in `t`, the step exists while both are positive, and after that while
-    /// the cubic's discriminant `D(t)` (a quartic in `t`) is negative. The first root of `D`
-    /// after both stop being positive is found on a monotone piece between the roots of
-    /// `D'` (a cubic) by bisection to `2 eps` relative.
+    /// The largest `|h|` for which the DMV step from `m` exists (the cubic of docs/MATH.md §2
+    /// keeps no negative real root, docs/MATH.md §3), from the polynomial conditions alone:
+    /// with `t = h^2`, `A` and `B` fall linearly in `t`, the step exists while both are
+    /// positive, and after that while the cubic's discriminant `D(t)` (a quartic in `t`) is
+    /// negative. The first root of `D` after both stop being positive is found on a monotone
+    /// piece between the roots of `D'` (a cubic) by bisection to `2 eps` relative
+    /// (`src/max_step.rs`).
     ///
     /// Returns `T::MAX` for `m = 0` (every step exists) and zero for a non-finite `m`.
     /// Talk's case: `1.060273597`.
+    #[must_use]
     pub fn max_step(body: &Body<T>, m: &[T; 3]) -> T {
-        max_step(body, m)
+        crate::max_step::max_step(body, m)
     }
 
     /// Solves for `s1` exactly and sets the scale for momentum `m`. Cold: it runs at set-up
@@ -564,7 +573,7 @@ impl<T: Real> Mv<T> {
             it += 1;
         }
         if !(dg > T::ZERO) || !delta.is_finite() {
-            // the largest root is simple (MATH.md §4); a flat quartic means no valid split
+            // the largest root is simple (docs/MATH.md §4); a flat quartic means no valid split
             return Err(StepError::Degenerate);
         }
         t.delta = delta;
@@ -620,8 +629,11 @@ impl<T: Real> Mv<T> {
     /// With `D = diag(s1 J + s3 J^-1)`, the map is `m' = (D + J M) y`, `L^T y = m`. At `h = 0`,
     /// `D = L^T`, so `D + J M = L^T + Delta` with `Delta` small, and the step is computed as
     /// `m' = m + Delta y`: the increment keeps full relative accuracy and only the final
-    /// addition rounds `m`. `Delta`'s diagonal is `delta j_i - (s2 - s2_0) - a_i + |mm|^2`, its
-    /// off-diagonal `j_i M_ij - L^T_ij`.
+    /// addition rounds `m`. The jobs, in order: bring `s1` up to date ([`Mv::system`]), hold
+    /// the invariants ([`Anchor`]), build `L^T` ([`Track::transposed_system`]), solve
+    /// it ([`solve_cramer`]), form the increment ([`Track::increment_matrix`],
+    /// [`Track::invariant_fix`]) the
+    /// increment itself, from which the attitude's turn is read ([`Mv::rotation_between`]).
     #[inline(always)]
     fn advance(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
         let follows = matches!(&self.anchor, Some(a) if a.last == m);
@@ -629,16 +641,13 @@ impl<T: Real> Mv<T> {
         let Some(t) = self.track.as_ref() else {
             return Err(StepError::Degenerate);
         };
-        let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
-        // X is orthogonal only to round-off, and that round-off is correlated along the
-        // orbit, so |m|^2 and the energy would drift (|m|^2 by 7.6e-12 in f64, 2e-3 in f32
-        // after 10^6 steps on the talk's case; the energy by 3e-5 in f32 on the spacecraft).
-        // Each step therefore moves its input back onto the trajectory's invariants, to first
-        // order (exact to O(eps^2)): the invariants of the DMV map, alpha = |mm|^2 and
-        // beta = sum j_i^2 mm_i^2, are computed for the quartic anyway, and the correction is
-        // x m + y (j^2 m). They are kept in the step's scaled units (|m|^2 itself overflows f32
-        // above 1.8e19), and re-taken when the caller changed m (a filter's correction is kept,
-        // not undone) or the scale moved.
+        // hold the invariants: X is orthogonal only to round-off, and that round-off is
+        // correlated along the orbit, so |m|^2 and the energy would drift (|m|^2 by 7.6e-12 in
+        // f64, 2e-3 in f32 after 10^6 steps on the talk's case; the energy by 3e-5 in f32 on
+        // the spacecraft). Each step moves its input back onto the trajectory's invariants
+        // ([`Anchor::correction`]); the anchor is re-taken when the caller changed m (a
+        // filter's correction is kept, not undone), the scale moved or the body changed. (Kept inline: as a
+        // function taking `&mut Option<Anchor>` it cost an instruction per step on the M4F.)
         let (corr, corr_v) = match self.anchor.as_mut() {
             Some(a) if follows && !resynced && !self.retake => a.correction(&k, t),
             _ => {
@@ -651,51 +660,14 @@ impl<T: Real> Mv<T> {
                 (T::ZERO, T::ZERO)
             }
         };
+        let sys = t.transposed_system(&k);
         // the correction is tiny: it goes into the increment, never into a product with m
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp); the
         // m part is folded into the solve, the j^2 m part added after it (its rotation by the
         // step is a second-order small term)
-        let fix = corr + T::ONE;
-        let delta = t.delta;
-        let s1 = t.s0 + delta;
-        // s2 - s2_0 = s1_0 delta + delta^2 / 2 + |mm|^2 / 2, and e = s2 - |mm|^2 - s2_0
-        let e = t.s0 * delta + (sq(delta) - alpha) * c::<T>(0.5);
-        // L^T = M^2 + J^2 + s1 M + s2 I with M = hat(mm), M^2 = mm mm^T - |mm|^2 I
-        let (xy, xz, yz) = (mm.x * mm.y, mm.x * mm.z, mm.y * mm.z);
-        let (sx, sy, sz) = (s1 * mm.x, s1 * mm.y, s1 * mm.z);
-        let (l01, l02, l12) = (xy - sz, xz + sy, yz - sx);
-        let (l10, l20, l21) = (xy + sz, xz - sy, yz + sx);
-        // a_i + e is shared by L^T's diagonal and Delta's
-        let ae = Vec3::new(a.x + e, a.y + e, a.z + e);
-        let lt = Mat3::from_cols(
-            Vec3::new(t.c0.x + ae.x, l10, l20),
-            Vec3::new(l01, t.c0.y + ae.y, l21),
-            Vec3::new(l02, l12, t.c0.z + ae.z),
-        );
-        // L^T y = m by Cramer's rule: the rows of adj(L^T) are cross products of its columns
-        let r0 = lt.y_axis.cross(lt.z_axis);
-        let r1 = lt.z_axis.cross(lt.x_axis);
-        let r2 = lt.x_axis.cross(lt.y_axis);
-        let det = lt.x_axis.dot(r0);
-        if !(det.abs() > T::ZERO) || !det.is_finite() {
-            return Err(StepError::Degenerate);
-        }
-        let inv_det = T::ONE / det;
-        let y = Vec3::new(r0.dot(m), r1.dot(m), r2.dot(m)).scale(inv_det * fix);
-        // Delta = D + J M - L^T
-        let j = t.j;
-        let dd = Vec3::new(delta * j.x - ae.x, delta * j.y - ae.y, delta * j.z - ae.z);
-        let delta_m = Mat3::from_cols(
-            Vec3::new(dd.x, j.y * mm.z - l10, -(j.z * mm.y) - l20),
-            Vec3::new(-(j.x * mm.z) - l01, dd.y, j.z * mm.x - l21),
-            Vec3::new(j.x * mm.y - l02, -(j.y * mm.x) - l12, dd.z),
-        );
-        let fixed = if corr_v == T::ZERO {
-            m.scale(corr)
-        } else {
-            let v = Vec3::new(t.j2.x * m.x, t.j2.y * m.y, t.j2.z * m.z);
-            m.scale(corr).add(v.scale(corr_v))
-        };
+        let y = solve_cramer(&sys.lt, m, corr + T::ONE)?;
+        let delta_m = t.increment_matrix(&sys);
+        let fixed = t.invariant_fix(m, corr, corr_v);
         let increment = delta_m.mul_vec(y);
         let next = m.add(increment.add(fixed));
         if !next.is_finite() {
@@ -707,6 +679,93 @@ impl<T: Real> Mv<T> {
             a.last = next;
         }
         Ok(Advanced { next, increment })
+    }
+}
+
+/// `L^T = M^2 + J^2 + s1 M + s2 I` for one step (scaled units), with the pieces of it the
+/// increment `Delta = D + J M - L^T` reuses.
+struct TransposedSystem<T> {
+    lt: Mat3<T>,
+    /// `a_i + e` (`e = s2 - |mm|^2 - s2_0`), shared by the diagonals of `L^T` and `Delta`.
+    ae: Vec3<T>,
+    /// `L^T`'s entries above the diagonal, `(01, 02, 12)`.
+    upper: (T, T, T),
+    /// `L^T`'s entries below the diagonal, `(10, 20, 21)`.
+    lower: (T, T, T),
+    /// `h m / kappa`.
+    mm: Vec3<T>,
+}
+
+/// `L^T y = fix * m` by Cramer's rule: the rows of `adj(L^T)` are cross products of its
+/// columns. `Degenerate` for a zero or non-finite determinant.
+#[inline(always)]
+fn solve_cramer<T: Real>(lt: &Mat3<T>, m: Vec3<T>, fix: T) -> Result<Vec3<T>, StepError> {
+    let r0 = lt.y_axis.cross(lt.z_axis);
+    let r1 = lt.z_axis.cross(lt.x_axis);
+    let r2 = lt.x_axis.cross(lt.y_axis);
+    let det = lt.x_axis.dot(r0);
+    if !(det.abs() > T::ZERO) || !det.is_finite() {
+        return Err(StepError::Degenerate);
+    }
+    let inv_det = T::ONE / det;
+    Ok(Vec3::new(r0.dot(m), r1.dot(m), r2.dot(m)).scale(inv_det * fix))
+}
+
+impl<T: Real> Track<T> {
+    /// `L^T` for the tracked `delta` and the coefficients `k` of the step's input.
+    #[inline(always)]
+    fn transposed_system(&self, k: &Coefficients<T>) -> TransposedSystem<T> {
+        let (mm, a, alpha) = (k.mm, k.a, k.sum_a);
+        let delta = self.delta;
+        let s1 = self.s0 + delta;
+        // s2 - s2_0 = s1_0 delta + delta^2 / 2 + |mm|^2 / 2, and e = s2 - |mm|^2 - s2_0
+        let e = self.s0 * delta + (sq(delta) - alpha) * c::<T>(0.5);
+        // L^T = M^2 + J^2 + s1 M + s2 I with M = hat(mm), M^2 = mm mm^T - |mm|^2 I
+        let (xy, xz, yz) = (mm.x * mm.y, mm.x * mm.z, mm.y * mm.z);
+        let (sx, sy, sz) = (s1 * mm.x, s1 * mm.y, s1 * mm.z);
+        let (l01, l02, l12) = (xy - sz, xz + sy, yz - sx);
+        let (l10, l20, l21) = (xy + sz, xz - sy, yz + sx);
+        let ae = Vec3::new(a.x + e, a.y + e, a.z + e);
+        let lt = Mat3::from_cols(
+            Vec3::new(self.c0.x + ae.x, l10, l20),
+            Vec3::new(l01, self.c0.y + ae.y, l21),
+            Vec3::new(l02, l12, self.c0.z + ae.z),
+        );
+        TransposedSystem {
+            lt,
+            ae,
+            upper: (l01, l02, l12),
+            lower: (l10, l20, l21),
+            mm,
+        }
+    }
+
+    /// `Delta = D + J M - L^T`: diagonal `delta j_i - (s2 - s2_0) - a_i + |mm|^2`,
+    /// off-diagonal `j_i M_ij - L^T_ij`.
+    #[inline(always)]
+    fn increment_matrix(&self, sys: &TransposedSystem<T>) -> Mat3<T> {
+        let (j, ae, mm, delta) = (self.j, sys.ae, sys.mm, self.delta);
+        let (l01, l02, l12) = sys.upper;
+        let (l10, l20, l21) = sys.lower;
+        let dd = Vec3::new(delta * j.x - ae.x, delta * j.y - ae.y, delta * j.z - ae.z);
+        Mat3::from_cols(
+            Vec3::new(dd.x, j.y * mm.z - l10, -(j.z * mm.y) - l20),
+            Vec3::new(-(j.x * mm.z) - l01, dd.y, j.z * mm.x - l21),
+            Vec3::new(j.x * mm.y - l02, -(j.y * mm.x) - l12, dd.z),
+        )
+    }
+
+    /// The part of the invariants' correction added after the solve: `x m + y (j^2 m)` less
+    /// the `m` part folded into the solve, i.e. `x m` (and `y j^2 m` when the energy is
+    /// corrected).
+    #[inline(always)]
+    fn invariant_fix(&self, m: Vec3<T>, corr: T, corr_v: T) -> Vec3<T> {
+        if corr_v == T::ZERO {
+            m.scale(corr)
+        } else {
+            let v = Vec3::new(self.j2.x * m.x, self.j2.y * m.y, self.j2.z * m.z);
+            m.scale(corr).add(v.scale(corr_v))
+        }
     }
 }
 
@@ -818,137 +877,6 @@ fn discriminant<T: Real>(a: T, b: T, cc: T) -> T {
     c::<T>(18.0) * a * b * cc - c::<T>(4.0) * sq(a) * a * cc + sq(a) * sq(b)
         - c::<T>(4.0) * sq(b) * b
         - c::<T>(27.0) * sq(cc)
-}
-
-fn max_step<T: Real>(body: &Body<T>, m: &[T; 3]) -> T {
-    let m = Vec3::from_array(*m);
-    if !m.is_finite() {
-        return T::ZERO;
-    }
-    let r = m.max_abs();
-    if r == T::ZERO {
-        return T::MAX;
-    }
-    let j = body.mass_matrix_vec();
-    let kappa = j.max_abs();
-    // divide, not multiply by a reciprocal: 1 / r overflows for a subnormal r
-    let jn = Vec3::new(j.x / kappa, j.y / kappa, j.z / kappa);
-    let mn = Vec3::new(m.x / r, m.y / r, m.z / r);
-    let j2 = jn.mul_elem(jn);
-    let a2 = mn.mul_elem(mn);
-    // A(t) = a0 - a1 t, B(t) = b0 - b1 t, with t = (h r / kappa)^2
-    let a0 = j2.x + j2.y + j2.z;
-    let a1 = a2.x + a2.y + a2.z;
-    let b0 = j2.x * j2.y + j2.x * j2.z + j2.y * j2.z;
-    let b1 = a2.dot(j2);
-    let cc = sq(jn.x * jn.y * jn.z);
-    let t_a = a0 / a1;
-    let t0 = if b1 > T::ZERO { t_a.min(b0 / b1) } else { t_a };
-    // D(t) as a polynomial, lowest degree first
-    let pa = [a0, -a1];
-    let pb = [b0, -b1];
-    let ab = mul11(pa, pb);
-    let a_2 = mul11(pa, pa);
-    let b_2 = mul11(pb, pb);
-    let a_3 = mul21(a_2, pa);
-    let b_3 = mul21(b_2, pb);
-    let a2b2 = mul22(a_2, b_2);
-    let k18 = c::<T>(18.0) * cc;
-    let k4 = c::<T>(4.0) * cc;
-    let four = c::<T>(4.0);
-    let d = [
-        k18 * ab[0] - k4 * a_3[0] + a2b2[0] - four * b_3[0] - c::<T>(27.0) * sq(cc),
-        k18 * ab[1] - k4 * a_3[1] + a2b2[1] - four * b_3[1],
-        k18 * ab[2] - k4 * a_3[2] + a2b2[2] - four * b_3[2],
-        -k4 * a_3[3] + a2b2[3] - four * b_3[3],
-        a2b2[4],
-    ];
-    let t = first_nonnegative(&d, t0);
-    (t.sqrt() * kappa / r).min(T::MAX)
-}
-
-fn mul11<T: Real>(p: [T; 2], q: [T; 2]) -> [T; 3] {
-    [p[0] * q[0], p[0] * q[1] + p[1] * q[0], p[1] * q[1]]
-}
-
-fn mul21<T: Real>(p: [T; 3], q: [T; 2]) -> [T; 4] {
-    [
-        p[0] * q[0],
-        p[0] * q[1] + p[1] * q[0],
-        p[1] * q[1] + p[2] * q[0],
-        p[2] * q[1],
-    ]
-}
-
-fn mul22<T: Real>(p: [T; 3], q: [T; 3]) -> [T; 5] {
-    [
-        p[0] * q[0],
-        p[0] * q[1] + p[1] * q[0],
-        p[0] * q[2] + p[1] * q[1] + p[2] * q[0],
-        p[1] * q[2] + p[2] * q[1],
-        p[2] * q[2],
-    ]
-}
-
-fn eval4<T: Real>(d: &[T; 5], t: T) -> T {
-    (((d[4] * t + d[3]) * t + d[2]) * t + d[1]) * t + d[0]
-}
-
-/// The smallest `t >= t0` with `D(t) >= 0`, for a quartic `D` with positive leading
-/// coefficient: `D` is monotone between the real roots of `D'`, so each piece is checked at
-/// its ends and bisected where `D` changes sign.
-fn first_nonnegative<T: Real>(d: &[T; 5], t0: T) -> T {
-    if !(eval4(d, t0) < T::ZERO) {
-        return t0;
-    }
-    // critical points: roots of D'(t) = 4 d4 t^3 + 3 d3 t^2 + 2 d2 t + d1
-    let lead = c::<T>(4.0) * d[4];
-    let mut breaks = [T::MAX; 3];
-    if lead != T::ZERO {
-        if let Some(roots) = solve_cubic(
-            c::<T>(3.0) * d[3] / lead,
-            c::<T>(2.0) * d[2] / lead,
-            d[1] / lead,
-        ) {
-            match roots {
-                CubicRoots::Real(r) => breaks = r,
-                CubicRoots::Complex { real, .. } => breaks[0] = real,
-            }
-        }
-    }
-    let mut lo = t0;
-    for &b in breaks.iter() {
-        if b > lo && b < T::MAX {
-            if !(eval4(d, b) < T::ZERO) {
-                return bisect(d, lo, b);
-            }
-            lo = b;
-        }
-    }
-    // past the last critical point D rises to +infinity: bracket by doubling
-    let mut hi = if lo > T::ONE { lo } else { T::ONE };
-    let mut k = 0;
-    while eval4(d, hi) < T::ZERO && k < 2100 {
-        lo = hi;
-        hi = hi + hi;
-        k += 1;
-    }
-    bisect(d, lo, hi)
-}
-
-/// Bisection for the sign change of `D` in `[lo, hi]` (`D(lo) < 0 <= D(hi)`) to `2 eps`.
-fn bisect<T: Real>(d: &[T; 5], mut lo: T, mut hi: T) -> T {
-    let mut k = 0;
-    while hi - lo > c::<T>(2.0) * T::EPSILON * hi && k < 2200 {
-        let mid = lo + (hi - lo) * c(0.5);
-        if eval4(d, mid) < T::ZERO {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        k += 1;
-    }
-    lo
 }
 
 impl<T: Real> Integrator<T> for Mv<T> {

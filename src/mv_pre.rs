@@ -1,6 +1,6 @@
 //! `PreMv`: the DMV step with modified moments of inertia, orders 4 to 10 (Hairer & Vilmart,
 //! "Preprocessed discrete Moser–Veselov algorithm for the full dynamics of a rigid body",
-//! J. Phys. A 39 (2006) 13225; MATH.md §5).
+//! J. Phys. A 39 (2006) 13225; docs/MATH.md §5).
 //!
 //! DMV's only error is a phase (time) error with a large constant. Hairer and Vilmart showed
 //! that running DMV with modified moments `I~` makes it agree with the exact flow to order
@@ -9,9 +9,10 @@
 //! `1 / I~_j = (1 / I_j) (1 + s3 + s5 + s7 + s9) + (d3 + d5 + d7 + d9)`,
 //!
 //! with `s_k`, `d_k` homogeneous polynomials of degree `(k - 1) / 2` in `C = h^2 |m|^2 / 2` and
-//! `H = h^2 E` whose coefficients are rational in the moments (the table of MATH.md §5). `C` and
-//! `H` are invariants, so `I~` is constant along a trajectory: it is computed once (and again
-//! when the state is changed from outside or the step changes), and every step is an `Mv` step.
+//! `H = h^2 E` whose coefficients are rational in the moments (the table of docs/MATH.md §5).
+//! `C` and `H` are invariants, so `I~` is constant along a trajectory: it is computed once (and
+//! again when the state is changed from outside or the step changes), and every step is an
+//! `Mv` step.
 
 use crate::body::Body;
 use crate::error::StepError;
@@ -25,15 +26,16 @@ use crate::real::{c, sq, Real};
 /// the true invariants because `I~` depends on them only); not symplectic above order 2.
 /// Errors at `t = 10` on the talk's case (m / q): order 4, `h = 0.1`: `3.9e-6 / 5.8e-6`;
 /// order 6, `h = 0.1`: `1.2e-9 / 1.4e-9`; order 8, `h = 0.2`: `5.5e-11`; order 10, `h = 0.25`:
-/// `2.6e-13` (MATH.md §5, reproduced by the tests). Explicit at every step size up to the
+/// `2.6e-13` (docs/MATH.md §5, reproduced by the tests). Explicit at every step size up to the
 /// modified body's [`Mv::max_step`]; if the modified moments break the triangle inequality
 /// (very large steps) the step returns `StepTooLarge`.
 ///
 /// Cost per step: that of `Mv` plus a three-way comparison. When `m` or `h` changes from
 /// outside (a filter's correction, a torque kick, a jittering clock) the modified moments are
-/// updated incrementally: the polynomials of MATH.md §5 are tabulated per body at
-/// construction, so an update is one evaluation (about 70 flops and three divisions) and the
-/// `Mv` of the modified body keeps its tracked root as the start of a Newton re-solve.
+/// updated incrementally: the polynomials of docs/MATH.md §5 are tabulated per body at
+/// construction, so an update is one evaluation of them and three divisions (counted in the
+/// README's flops table), and the `Mv` of the modified body keeps its tracked root as the
+/// start of a Newton re-solve.
 #[derive(Clone, Copy, Debug)]
 pub struct PreMv<T> {
     body: Body<T>,
@@ -72,11 +74,18 @@ impl<T: Real> PreMv<T> {
     }
 
     /// The order.
+    #[must_use]
     pub fn order(&self) -> u8 {
         self.order
     }
 
-    /// The modified principal moments `I~` for momentum `m` (MATH.md §5).
+    /// The modified principal moments `I~` for momentum `m` (docs/MATH.md §5).
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite `m` or step, [`StepError::StepTooLarge`]
+    /// when the series gives a non-positive modified moment (the step is too large for the
+    /// preprocessing), and [`StepError::Overflow`] when a moment would overflow.
     pub fn modified_inertia(&self, m: &[T; 3]) -> Result<[T; 3], StepError> {
         self.modifier.modified_inertia(self.h, m)
     }
@@ -229,10 +238,10 @@ impl<T: Real> Integrator<T> for PreMv<T> {
     }
 }
 
-/// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of MATH.md §5
-/// as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree `k + 1`). They depend on
-/// the body only, so they are computed once (about 250 flops and the divisions for order 10)
-/// and a change of `m` or `h` costs an evaluation (about 40 flops) and three divisions.
+/// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of
+/// docs/MATH.md §5 as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree
+/// `k + 1`). They depend on the body only, so they are computed once per body, and a change of
+/// `m` or `h` costs one evaluation and three divisions.
 #[derive(Clone, Copy, Debug)]
 struct Modifier<T> {
     order: u8,
@@ -355,7 +364,7 @@ impl<T: Real> Modifier<T> {
         m
     }
 
-    /// `I~` for step `h` and momentum `m`: `1 / I~_j = (1 / I_j)(1 + s) + d` (MATH.md §5).
+    /// `I~` for step `h` and momentum `m`: `1 / I~_j = (1 / I_j)(1 + s) + d` (docs/MATH.md §5).
     fn modified_inertia(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
         let [a1, a2, a3] = self.inv_i;
         if self.order <= 2 {

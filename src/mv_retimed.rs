@@ -1,5 +1,5 @@
 //! `RetimedMv`: the DMV step with its step size chosen so that its iterates land on the exact
-//! orbit exactly at the requested times (MATH.md §2, §5).
+//! orbit exactly at the requested times (docs/MATH.md §2, §5).
 //!
 //! DMV's only error is in time: its iterates lie on the exact momentum orbit at times
 //! `n tau(h')`, `tau(h') = h' (1 + tau_3 h'^2 + ...)`, with `tau` constant along a trajectory.
@@ -40,6 +40,7 @@ pub struct RetimedMv<T> {
 
 impl<T: Real> RetimedMv<T> {
     /// A retimed DMV of `order` (2: plain DMV; 4 to 10: preprocessed) with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T, order: u8) -> Self {
         Self {
             body,
@@ -50,6 +51,12 @@ impl<T: Real> RetimedMv<T> {
     }
 
     /// The DMV step `h'` whose exact time is `h` from momentum `m`.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite `m` or `h`, the errors of the DMV steps it
+    /// tries (past the existence limit: [`StepError::StepTooLarge`]), and
+    /// [`StepError::NoConvergence`] when the secant iteration for `h'` fails.
     pub fn retimed_step(&self, m: &[T; 3]) -> Result<T, StepError> {
         retime(&self.body, self.h, self.order, m)
     }

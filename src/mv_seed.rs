@@ -1,12 +1,13 @@
 //! `SeedMv`: the talk's explicit spectral algorithm for the 3x3 discrete Moser–Veselov step,
 //! kept as published (Zanna & McLachlan, "An explicit, completely integrable, second-order
-//! method for the 3x3 rigid body"; MATH.md §2).
+//! method for the 3x3 rigid body"; docs/MATH.md §2).
 
 use crate::body::Body;
 use crate::cubic::{complex_sqrt, solve_cubic, CubicRoots};
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+    checked_momentum, checked_state, compose_attitude, write_momentum, write_state, Integrator,
+    State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, sq, Real};
@@ -40,11 +41,18 @@ pub struct SeedMv<T> {
 
 impl<T: Real> SeedMv<T> {
     /// An integrator for `body` with step `h` (any finite `h`, negative steps run backwards).
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self { body, h }
     }
 
     /// The rotation `X` of one step from momentum `m`, as rows (`X[i][j]`), for checks.
+    ///
+    /// # Errors
+    ///
+    /// Those of the step: [`StepError::NonFinite`], [`StepError::StepTooLarge`] (the cubic
+    /// has a negative real root), [`StepError::Degenerate`] (a singular eigenvector system, a
+    /// repeated root, or an `X` that fails the orthogonality check), [`StepError::Overflow`].
     pub fn step_matrix(&self, m: &[T; 3]) -> Result<[[T; 3]; 3], StepError> {
         let x = self.solve(checked_momentum(m)?)?;
         Ok([
@@ -231,11 +239,7 @@ impl<T: Real> Integrator<T> for SeedMv<T> {
         let v = checked_momentum(m)?;
         let x = self.solve(v)?;
         let next = x.transpose_mul_vec(v);
-        if !next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        *m = next.to_array();
-        Ok(())
+        write_momentum(m, next)
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {

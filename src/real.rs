@@ -38,34 +38,47 @@ pub trait Real:
     const ONE: Self;
 
     /// Converts an `f64` constant, rounding to nearest. Constants are not counted as flops.
+    #[must_use]
     fn from_f64(x: f64) -> Self;
     /// Widens (or unwraps) to `f64`; exact for `f32` and `f64`.
+    #[must_use]
     fn to_f64(self) -> f64;
 
     /// Square root, correctly rounded.
+    #[must_use]
     fn sqrt(self) -> Self;
     /// Absolute value, exact.
+    #[must_use]
     fn abs(self) -> Self;
     /// Sine, libm (about 1 ulp).
+    #[must_use]
     fn sin(self) -> Self;
     /// Cosine, libm (about 1 ulp).
+    #[must_use]
     fn cos(self) -> Self;
     /// Arc cosine, libm (about 1 ulp).
+    #[must_use]
     fn acos(self) -> Self;
     /// Two-argument arc tangent, libm (about 2 ulp).
+    #[must_use]
     fn atan2(self, x: Self) -> Self;
     /// Cube root, libm (about 1 ulp).
+    #[must_use]
     fn cbrt(self) -> Self;
     /// Natural logarithm, libm (about 1 ulp).
+    #[must_use]
     fn ln(self) -> Self;
     /// Exponential, libm (about 1 ulp).
+    #[must_use]
     fn exp(self) -> Self;
 
     /// True unless NaN or infinite.
+    #[must_use]
     fn is_finite(self) -> bool;
 
     /// The larger of two numbers; `self` if `other` is NaN.
     #[inline]
+    #[must_use]
     fn max(self, other: Self) -> Self {
         if other > self {
             other
@@ -75,6 +88,7 @@ pub trait Real:
     }
     /// The smaller of two numbers; `self` if `other` is NaN.
     #[inline]
+    #[must_use]
     fn min(self, other: Self) -> Self {
         if other < self {
             other
@@ -84,6 +98,7 @@ pub trait Real:
     }
     /// `|self|` with the sign of `sign`.
     #[inline]
+    #[must_use]
     fn copysign(self, sign: Self) -> Self {
         let a = self.abs();
         if sign < Self::ZERO {

@@ -2,7 +2,9 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, write_state, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, write_momentum, write_state, Integrator, State,
+};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
 
@@ -23,6 +25,7 @@ pub struct Rk4<T> {
 
 impl<T: Real> Rk4<T> {
     /// An RK4 integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -38,17 +41,25 @@ impl<T: Real> Rk4<T> {
 
     #[inline]
     fn g(&self, m: Vec3<T>, q: Quat<T>) -> Quat<T> {
-        let w = m.mul_elem(self.inv_i).scale(c::<T>(0.5));
-        q.mul(Quat {
-            w: T::ZERO,
-            x: w.x,
-            y: w.y,
-            z: w.z,
-        })
+        attitude_rate(q, m.mul_elem(self.inv_i))
     }
 }
 
-fn axpy<T: Real>(q: Quat<T>, k: T, d: Quat<T>) -> Quat<T> {
+/// `q' = 1/2 q (x) (0, omega)`: the attitude's rate for the body angular velocity `omega`
+/// (shared with [`crate::ForcedRk4`]).
+#[inline]
+pub(crate) fn attitude_rate<T: Real>(q: Quat<T>, omega: Vec3<T>) -> Quat<T> {
+    let w = omega.scale(c::<T>(0.5));
+    q.mul(Quat {
+        w: T::ZERO,
+        x: w.x,
+        y: w.y,
+        z: w.z,
+    })
+}
+
+/// `q + k d`, componentwise: an RK4 stage of the attitude (shared with [`crate::ForcedRk4`]).
+pub(crate) fn axpy<T: Real>(q: Quat<T>, k: T, d: Quat<T>) -> Quat<T> {
     Quat {
         w: q.w + k * d.w,
         x: q.x + k * d.x,
@@ -70,11 +81,7 @@ impl<T: Real> Integrator<T> for Rk4<T> {
         let k4 = self.f(v.add(k3.scale(h)));
         let sum = k1.add(k4).add(k2.add(k3).scale(c::<T>(2.0)));
         let next = v.add(sum.scale(h * c::<T>(1.0 / 6.0)));
-        if !next.is_finite() {
-            return Err(StepError::Overflow);
-        }
-        *m = next.to_array();
-        Ok(())
+        write_momentum(m, next)
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {

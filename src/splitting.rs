@@ -1,6 +1,6 @@
 //! McLachlan's splittings: compositions of exact rotations about the principal axes
 //! (R. I. McLachlan, "Explicit Lie–Poisson integration and the Euler equations",
-//! Phys. Rev. Lett. 71 (1993) 3043; MATH.md §7).
+//! Phys. Rev. Lett. 71 (1993) 3043; docs/MATH.md §7).
 //!
 //! The energy `E = sum E_i`, `E_i = m_i^2 / (2 I_i)`, splits into integrable pieces. The flow
 //! of `E_i` keeps `m_i` and so `w = m_i / I_i`, and is the rotation `m(t) = R_i(-w t) m`
@@ -116,6 +116,7 @@ pub struct Splitting<T> {
 
 impl<T: Real> Splitting<T> {
     /// A splitting integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         Self {
             body,
@@ -127,6 +128,11 @@ impl<T: Real> Splitting<T> {
     /// `n` steps at once with the half steps of consecutive steps merged:
     /// `phi_1(h/2) [phi_2(h/2) phi_3(h) phi_2(h/2) phi_1(h)]^(n-1) ... phi_1(h/2)`, four
     /// rotations a step. Same result as `n` calls of `step` up to round-off.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::NonFinite`] for a non-finite `m` or step, [`StepError::Overflow`] when the
+    /// result would overflow (`m` is then left as it was).
     pub fn step_many(&mut self, m: &mut [T; 3], n: usize) -> Result<(), StepError> {
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
@@ -190,7 +196,7 @@ impl<T: Real> Integrator<T> for Splitting<T> {
 /// the one of the middle moment (`c = 1 / I_mid` leaves the two smallest frequencies
 /// `1/I_i - c`, of opposite signs), with the half steps on the axis of the smallest moment:
 /// on the talk's case the error at `t = 10` is about `0.0027 h^2`, a hundred times below
-/// [`Splitting`] (MATH.md §7; the other five arrangements give `0.0043` to `0.032`).
+/// [`Splitting`] (docs/MATH.md §7; the other five arrangements give `0.0043` to `0.032`).
 #[derive(Clone, Copy, Debug)]
 pub struct Splitting2<T> {
     body: Body<T>,
@@ -203,6 +209,7 @@ pub struct Splitting2<T> {
 
 impl<T: Real> Splitting2<T> {
     /// A Casimir-split integrator for `body` with step `h`.
+    #[must_use]
     pub fn new(body: Body<T>, h: T) -> Self {
         let [i1, i2, i3] = body.inertia();
         // a: smallest moment, b: largest, k (split off): the middle one

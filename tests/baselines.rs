@@ -150,7 +150,7 @@ fn midpoint_reports_its_iterations_and_its_limit() {
     assert!(fixed.last_iterations() > newton.last_iterations());
     assert!(dist(m1, m2) < 1e-15);
     // past the fixed-point limit it refuses (measured on the talk's case with 200 iterations:
-    // the first step converges up to h = 8.75, a run to t = 100 up to h = 5.93; MATH.md §3
+    // the first step converges up to h = 8.75, a run to t = 100 up to h = 5.93; docs/MATH.md §3
     // quotes 7.26)
     let mut m = TALK_M0;
     let mut fixed = Midpoint::with_solver(b, 10.0, Solver::FixedPoint);

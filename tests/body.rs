@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::Rng;
+use common::{Rng, TALK_I, TALK_J};
 use proptest::prelude::*;
 use rigid3::{Body, BodyError};
 
@@ -113,12 +113,12 @@ fn planar_body_is_valid_despite_rounding() {
 
 #[test]
 fn mass_matrix_and_inertia_round_trip() {
-    let b = Body::<f64>::from_mass_matrix([0.9218, 0.7382, 0.1763]).unwrap();
+    // the talk's case: the shared constants TALK_J and TALK_I describe the same body
+    let b = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
     let i = b.inertia();
     assert!(
-        (i[0] - 0.9145).abs() < 1e-15
-            && (i[1] - 1.0981).abs() < 1e-15
-            && (i[2] - 1.66).abs() < 1e-15
+        i.iter().zip(TALK_I).all(|(x, y)| (x - y).abs() < 1e-15),
+        "{i:?}"
     );
     let back = Body::from_inertia(i).unwrap().mass_matrix();
     for (x, y) in back.iter().zip(b.mass_matrix().iter()) {
@@ -252,4 +252,16 @@ proptest! {
         prop_assume!(c > 0.0);
         check_tensor([a, b, c], [q0 / n, q1 / n, q2 / n, q3 / n]);
     }
+}
+
+#[test]
+fn errors_are_core_errors_without_any_feature() {
+    fn describe(e: &dyn core::error::Error) -> String {
+        e.to_string()
+    }
+    assert!(describe(&rigid3::BodyError::NonFinite).contains("NaN"));
+    assert!(describe(&rigid3::StepError::StepTooLarge).contains("limit"));
+    // and as a boxed std error, through `?`
+    let boxed: Box<dyn std::error::Error> = rigid3::StepError::Overflow.into();
+    assert!(boxed.to_string().contains("overflow"));
 }

@@ -10,6 +10,7 @@
 
 #[path = "../fuzz/check.rs"]
 mod check;
+mod common;
 
 use proptest::prelude::*;
 
@@ -31,14 +32,8 @@ proptest! {
 /// checks, outcomes by method and kind. Fails on any panic or non-finite `Ok` (inside `check`).
 #[test]
 fn tally_of_outcomes_by_method_and_kind() {
-    let mut state: u64 = 0x5eed;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    };
+    let mut rng = common::Rng::new(0x5eed);
+    let mut next = || rng.next_u64();
     let mut table = [[0u32; 7]; 11];
     let (mut inputs, mut refused_bodies, mut tensors_ok) = (0u32, 0u32, 0u32);
     for _ in 0..200_000 {

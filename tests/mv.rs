@@ -223,12 +223,7 @@ fn step_ok(body: Body<f64>, h: f64, m0: [f64; 3]) -> State<f64> {
 
 #[test]
 fn zero_momentum_is_a_fixed_point_for_every_body() {
-    for i in [
-        [1.0, 1.0, 1.0],
-        [1.0, 1.0, 2.0],
-        [1.0, 2.0, 3.0],
-        [0.9145, 1.0981, 1.66],
-    ] {
+    for i in [[1.0, 1.0, 1.0], [1.0, 1.0, 2.0], [1.0, 2.0, 3.0], TALK_I] {
         let s = step_ok(Body::from_inertia(i).unwrap(), 0.1, [0.0; 3]);
         assert_eq!(s.m, [0.0; 3]);
         assert!((s.q[0] - 1.0).abs() < 1e-15);

@@ -1,6 +1,6 @@
 //! `PreMv`, preprocessed DMV: orders 4 to 10 in m and in q on the talk's case and
 //! Hairer–Vilmart's driver case, against the high-precision references, with the error
-//! figures of MATH.md §5; same conservation as `Mv`; running up to `max_step`.
+//! figures of docs/MATH.md §5; same conservation as `Mv`; running up to `max_step`.
 
 mod common;
 
@@ -91,7 +91,7 @@ fn order_10() {
 
 #[test]
 fn errors_match_the_published_figures_within_a_factor_3() {
-    // MATH.md §5, talk's case at T = 10: (order, h, error in m, error in q)
+    // docs/MATH.md §5, talk's case at T = 10: (order, h, error in m, error in q)
     let table = [
         (2u8, 0.1, 5.1e-3, 1.2e-2),
         (4, 0.1, 3.9e-6, 5.8e-6),

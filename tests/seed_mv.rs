@@ -71,7 +71,7 @@ fn step_back_with_minus_h_is_the_identity() {
 
 #[test]
 fn step_matrix_solves_the_dmv_equation() {
-    // residuals of M = X J - J X^T and X^T X = I, the defining equations (MATH.md §2)
+    // residuals of M = X J - J X^T and X^T X = I, the defining equations (docs/MATH.md §2)
     let body = talk_body();
     let j = body.mass_matrix();
     let mut rng = Rng::new(11);
@@ -121,7 +121,7 @@ fn past_the_existence_limit_the_step_is_refused_and_the_state_kept() {
     assert!((det - 1.0).abs() < 1e-12);
 }
 
-/// Checks the weak spots of MATH.md §2: the result is an `Err`, or a momentum that keeps
+/// Checks the weak spots of docs/MATH.md §2: the result is an `Err`, or a momentum that keeps
 /// `|m|` and the energy (a correct DMV step does), never NaN.
 fn err_or_correct(body: Body<f64>, h: f64, m0: [f64; 3]) -> Result<[f64; 3], StepError> {
     let mut m = m0;

@@ -196,7 +196,7 @@ mod tests {
 
     #[test]
     fn midpoint_past_its_limit_does_not_converge() {
-        // fixed point: converges to h ~ 7.3 (MATH.md §3); Newton fails at h = 12 (the talk's
+        // fixed point: converges to h ~ 7.3 (docs/MATH.md §3); Newton fails at h = 12 (the talk's
         // case), but a single Newton step at h = 50 does converge, to a wrong phase
         let b = talk();
         let refused = Some(Outcome::Refused(StepError::NoConvergence));

@@ -348,22 +348,15 @@ pub fn dmv_step3(j: [f64; 3], m: [f64; 3], h: f64) -> Result<[f64; 3], ClError> 
 mod tests {
     use super::*;
 
-    struct Xs(u64); // xorshift64
-    impl Xs {
-        fn uni(&mut self, a: f64, b: f64) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            a + (b - a) * (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::rng::Rng;
+    use crate::scenes::{TALK_J as J0, TALK_M0 as M0, TALK_M10};
 
     fn check_random(n: usize, seed: u64) {
-        let mut rng = Xs(seed);
+        let mut rng = Rng(seed);
         let (mut mo, mut me, mut ok, mut axis) = (0.0f64, 0.0f64, 0, 0);
         for _ in 0..2000 {
-            let j: Vec<f64> = (0..n).map(|_| rng.uni(0.1, 1.2)).collect();
-            let a = DMatrix::from_fn(n, n, |_, _| rng.uni(-0.5, 0.5));
+            let j: Vec<f64> = (0..n).map(|_| rng.range(0.1, 1.2)).collect();
+            let a = DMatrix::from_fn(n, n, |_, _| rng.range(-0.5, 0.5));
             let m = a.upper_triangle() - a.upper_triangle().transpose();
             match dmv_x_general(&m, &j) {
                 Ok(x) => {
@@ -402,31 +395,45 @@ mod tests {
 
     #[test]
     fn reversibility() {
-        let mut rng = Xs(42);
-        let mut worst = 0.0f64;
+        let mut rng = Rng(42);
+        let (mut worst, mut skipped) = (0.0f64, 0);
         for _ in 0..2000 {
-            let j = [rng.uni(0.1, 1.2), rng.uni(0.1, 1.2), rng.uni(0.1, 1.2)];
-            let m = [rng.uni(-1.0, 1.0), rng.uni(-1.0, 1.0), rng.uni(-1.0, 1.0)];
-            let h = rng.uni(0.01, 0.3);
-            let m1 = dmv_step3(j, m, h).unwrap();
+            let j = [
+                rng.range(0.1, 1.2),
+                rng.range(0.1, 1.2),
+                rng.range(0.1, 1.2),
+            ];
+            let m = [
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ];
+            let h = rng.range(0.01, 0.3);
+            let Ok(m1) = dmv_step3(j, m, h) else {
+                // only where no DMV step exists, as rigid3's own existence limit says
+                let body = rigid3::Body::from_mass_matrix(j).unwrap();
+                assert!(
+                    h >= 0.999 * rigid3::Mv::max_step(&body, &m),
+                    "{j:?} {m:?} {h}"
+                );
+                skipped += 1;
+                continue;
+            };
             let m0 = dmv_step3(j, m1, -h).unwrap();
             let d = (0..3).map(|i| (m0[i] - m[i]).abs()).fold(0.0, f64::max);
             assert!(d <= 1e-13, "reversibility {d:e}");
             worst = worst.max(d);
         }
-        println!("reversibility max |m - back(fwd(m))| = {worst:e}");
+        assert!(
+            skipped < 20,
+            "{skipped} of 2000 steps past the existence limit"
+        );
+        println!("reversibility max |m - back(fwd(m))| = {worst:e} ({skipped} past the limit)");
     }
-
-    const J0: [f64; 3] = [0.9218, 0.7382, 0.1763];
-    const M0: [f64; 3] = [0.4165, 0.9072, 0.0588];
 
     #[test]
     fn talk_case_t10() {
-        let mref = [
-            0.827_172_818_567_906_3,
-            -0.096_647_426_825_883_59,
-            -0.553_521_393_543_520_7,
-        ];
+        let mref = TALK_M10;
         let mut m = M0;
         for _ in 0..100 {
             m = dmv_step3(J0, m, 0.1).unwrap();
@@ -451,12 +458,16 @@ mod tests {
 
     #[test]
     fn planar() {
-        let mut rng = Xs(7);
+        let mut rng = Rng(7);
         let (mut mo, mut me, mut ok) = (0.0f64, 0.0f64, 0);
         for _ in 0..2000 {
-            let j = [rng.uni(0.2, 1.2), rng.uni(0.2, 1.2), 0.0];
-            let m = [rng.uni(-1.0, 1.0), rng.uni(-1.0, 1.0), rng.uni(-1.0, 1.0)];
-            let h = rng.uni(0.01, 0.3);
+            let j = [rng.range(0.2, 1.2), rng.range(0.2, 1.2), 0.0];
+            let m = [
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ];
+            let h = rng.range(0.01, 0.3);
             let r3 = (h * m[1] / j[0]).powi(2) + (h * m[0] / j[1]).powi(2);
             // Row 3 of X is (-h m2/J1, h m1/J2, x33): no solution if r3 > 1.
             let x = match dmv_x3(j, m, h) {

@@ -8,7 +8,7 @@
 //!
 //! Write the DMV rotation as `X = R(p)` with the unit quaternion `p = (p0, v)`. Then
 //! `X J - J X^T = 2 p0 hat(I v) + 2 hat((J v) x v)` (`I_i = J_j + J_k`), so the DMV equation
-//! `h hat(m_k) = X J - J X^T` (MATH.md §2) is `h m_k = 2 p0 I v + 2 (J v) x v`. In the
+//! `h hat(m_k) = X J - J X^T` (docs/MATH.md §2) is `h m_k = 2 p0 I v + 2 (J v) x v`. In the
 //! Rodrigues (Gibbs) vector `c = v / p0`, with `1 / p0^2 = 1 + |c|^2 = alpha`, this is
 //!
 //! `I c = alpha h m_k / 2 - (J c) x c`,  componentwise `c_i = alpha a_i + f_i c_j c_k`,
@@ -44,7 +44,7 @@ pub const MAX_SWEEPS: u32 = 50;
 /// Hairer–Vilmart's DMV step (order 2) with the fixed-point stage iteration.
 ///
 /// The same map as `rigid3::Mv` where both exist and the iteration converges (Hairer and
-/// Vilmart's iteration stops converging at `h ~ 0.93` on the talk's case, MATH.md §3, where
+/// Vilmart's iteration stops converging at `h ~ 0.93` on the talk's case, docs/MATH.md §3, where
 /// `Mv` works up to `1.06`). Counts the sweeps it takes ([`HvDmv::mean_sweeps`]).
 #[derive(Clone, Copy, Debug)]
 pub struct HvDmv<T> {

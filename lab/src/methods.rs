@@ -1,32 +1,45 @@
 //! Every method of the crate (and the lab's general solver) behind one name, in f32 or f64.
 
-use rigid3::{
-    Body, Exact, Integrator, Midpoint, Mv, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver, Splitting,
-    Splitting2, State, StepError,
-};
+use rigid3::{Body, Integrator, Real, State, StepError};
 
 use crate::general::GeneralDmv;
 use crate::hv_dmv::HvDmv;
 
-/// The method names the CLI accepts, in the order tables list them.
-pub const METHODS: &[&str] = &[
-    "mv",
-    "pre-mv4",
-    "pre-mv6",
-    "pre-mv8",
-    "pre-mv10",
-    "retimed-mv",
-    "retimed-pre-mv10",
-    "seed-mv",
-    "hv-dmv",
-    "splitting",
-    "splitting2",
-    "midpoint",
-    "midpoint-fp",
-    "rk4",
-    "exact",
-    "general",
-];
+/// The method names the CLI accepts, in the order tables list them: the library's
+/// ([`LIBRARY_METHODS`]) with the lab's Hairer–Vilmart DMV after the talk's (`seed-mv`) and
+/// the lab's oracle (`general`) last.
+pub const METHODS: &[&str] = &with_lab_methods();
+
+const fn with_lab_methods() -> [&'static str; LIBRARY_METHODS.len() + 2] {
+    let mut out = [""; LIBRARY_METHODS.len() + 2];
+    let (mut i, mut k) = (0, 0);
+    while i < LIBRARY_METHODS.len() {
+        out[k] = LIBRARY_METHODS[i];
+        k += 1;
+        if same(LIBRARY_METHODS[i], "seed-mv") {
+            out[k] = "hv-dmv";
+            k += 1;
+        }
+        i += 1;
+    }
+    out[k] = "general";
+    out
+}
+
+const fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
 
 /// One-line description of a method, for tables and `--help`.
 pub fn describe(name: &str) -> &'static str {
@@ -51,24 +64,16 @@ pub fn describe(name: &str) -> &'static str {
     }
 }
 
-/// A boxed integrator for `name`, or `None` for an unknown name (or `general` in f32).
+// the library's integrators by name: one registry for the lab, the benches and the tests
+#[path = "../../tests/common/methods.rs"]
+mod library;
+pub use library::{make_library, LIBRARY_METHODS};
+
+/// A boxed integrator for `name`, or `None` for an unknown name (or `general` in f32): the
+/// library's ([`make_library`]) and the lab's own `hv-dmv` and `general`.
 pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dyn Integrator<T>>> {
     match name {
-        "mv" => Some(Box::new(Mv::new(body, h))),
-        "pre-mv4" => Some(Box::new(PreMv::new(body, h, 4))),
-        "pre-mv6" => Some(Box::new(PreMv::new(body, h, 6))),
-        "pre-mv8" => Some(Box::new(PreMv::new(body, h, 8))),
-        "pre-mv10" => Some(Box::new(PreMv::new(body, h, 10))),
-        "retimed-mv" => Some(Box::new(RetimedMv::new(body, h, 2))),
-        "retimed-pre-mv10" => Some(Box::new(RetimedMv::new(body, h, 10))),
-        "seed-mv" => Some(Box::new(SeedMv::new(body, h))),
         "hv-dmv" => Some(Box::new(HvDmv::new(body, h))),
-        "splitting" => Some(Box::new(Splitting::new(body, h))),
-        "splitting2" => Some(Box::new(Splitting2::new(body, h))),
-        "midpoint" => Some(Box::new(Midpoint::new(body, h))),
-        "midpoint-fp" => Some(Box::new(Midpoint::with_solver(body, h, Solver::FixedPoint))),
-        "rk4" => Some(Box::new(Rk4::new(body, h))),
-        "exact" => Some(Box::new(Exact::new(body, h))),
         "general" => {
             // the oracle is f64-only; wrap through f64
             Some(Box::new(Widened(
@@ -76,7 +81,7 @@ pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dy
                 body,
             )))
         }
-        _ => None,
+        _ => make_library(name, body, h),
     }
 }
 
@@ -105,5 +110,29 @@ impl<T: Real> Integrator<T> for Widened<T> {
     }
     fn body(&self) -> &Body<T> {
         &self.1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_order_and_every_name_builds() {
+        // the library's in their order, hv-dmv right after seed-mv, general last
+        let lab: Vec<&str> = METHODS
+            .iter()
+            .copied()
+            .filter(|n| !["hv-dmv", "general"].contains(n))
+            .collect();
+        assert_eq!(lab, LIBRARY_METHODS);
+        let seed = METHODS.iter().position(|&n| n == "seed-mv").unwrap();
+        assert_eq!(METHODS[seed + 1], "hv-dmv");
+        assert_eq!(METHODS.last(), Some(&"general"));
+        let body = Body::<f64>::from_mass_matrix(crate::scenes::TALK_J).unwrap();
+        for name in METHODS {
+            assert!(make(name, body, 0.1).is_some(), "{name}");
+            assert_ne!(describe(name), "unknown", "{name}");
+        }
     }
 }

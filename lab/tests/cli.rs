@@ -45,7 +45,7 @@ fn m_of(v: &serde_json::Value) -> [f64; 3] {
 fn propagate_prints_the_dmv_state_at_t10() {
     let r = propagate_json("seed-mv", &["--q0", "1,0,0,0"]);
     assert_eq!(r["steps"], 100);
-    // DMV's error at t = 10 on the talk's case is 0.51 h^2 (MATH.md §2)
+    // DMV's error at t = 10 on the talk's case is 0.51 h^2 (docs/MATH.md §2)
     let m10 = [
         0.827_172_818_567_906_3,
         -0.096_647_426_825_883_59,

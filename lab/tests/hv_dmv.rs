@@ -162,7 +162,7 @@ fn second_order_against_the_exact_solution() {
             "{pm} {pq}"
         );
     }
-    // DMV's error constant at t = 10 on the talk's case is 0.51 (MATH.md §2)
+    // DMV's error constant at t = 10 on the talk's case is 0.51 (docs/MATH.md §2)
     let c = errs[2].0 / (hs[2] * hs[2]);
     assert!((c - 0.51).abs() < 0.02, "{c}");
 }
@@ -215,7 +215,7 @@ fn the_quaternion_form_of_the_dmv_equation() {
     assert!(worst < 1e-14, "{worst:e}");
 }
 
-/// MATH.md §3: the fixed-point stage iteration stops converging at `h ~ 0.93` on the talk's
+/// docs/MATH.md §3: the fixed-point stage iteration stops converging at `h ~ 0.93` on the talk's
 /// case (first step from m0), where the DMV step itself exists up to `1.06`.
 #[test]
 fn the_iteration_fails_near_h_0_93_on_the_talks_case() {

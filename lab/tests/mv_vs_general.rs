@@ -6,6 +6,7 @@ mod common;
 
 use common::Rng;
 use rigid3_lab::general::dmv_x3;
+use rigid3_lab::scenes::{TALK_J, TALK_M0};
 
 /// Max difference of momentum (relative to |m|) and of the rotation X between one `Mv` step
 /// and the general solver.
@@ -113,12 +114,12 @@ fn zero_momentum() {
     let mut m = [0.0; 3];
     Mv::new(body, 0.1).step(&mut m).unwrap();
     assert_eq!(m, [0.0; 3]);
-    degenerate("m = 0, distinct J", [0.9218, 0.7382, 0.1763], [0.0; 3], 0.1);
+    degenerate("m = 0, distinct J", TALK_J, [0.0; 3], 0.1);
 }
 
 #[test]
 fn momentum_on_a_principal_axis() {
-    let j = [0.9218, 0.7382, 0.1763];
+    let j = TALK_J;
     degenerate("axis 1", j, [1.0, 0.0, 0.0], 0.3);
     degenerate("axis 2", j, [0.0, 1.0, 0.0], 0.3);
     degenerate("axis 3", j, [0.0, 0.0, 1.0], 0.3);
@@ -181,17 +182,17 @@ fn repeated_roots_where_the_talks_algorithm_refuses() {
 
 #[test]
 fn tiny_steps() {
-    let j = [0.9218, 0.7382, 0.1763];
+    let j = TALK_J;
     for h in [1e-4, 1e-6, 1e-8] {
-        degenerate(&format!("h = {h:e}"), j, [0.4165, 0.9072, 0.0588], h);
+        degenerate(&format!("h = {h:e}"), j, TALK_M0, h);
     }
 }
 
 #[test]
 fn huge_and_tiny_momenta() {
-    let j = [0.9218, 0.7382, 0.1763];
+    let j = TALK_J;
     for k in [1e-150, 1e150] {
-        let m0 = [0.4165 * k, 0.9072 * k, 0.0588 * k];
+        let m0 = TALK_M0.map(|x| x * k);
         degenerate(&format!("|m| ~ {k:e}"), j, m0, 0.1 / k);
     }
 }
@@ -211,9 +212,9 @@ fn near_the_separatrix() {
 
 #[test]
 fn past_the_limit_both_refuse() {
-    let j = [0.9218, 0.7382, 0.1763];
+    let j = TALK_J;
     let body = Body::from_mass_matrix(j).unwrap();
-    let m0 = [0.4165, 0.9072, 0.0588];
+    let m0 = TALK_M0;
     let hmax = Mv::max_step(&body, &m0);
     let mut m = m0;
     assert_eq!(

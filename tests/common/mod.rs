@@ -1,84 +1,15 @@
-//! Shared test fixtures: the public scenes of MATH.md §8 and a seeded generator.
-#![allow(dead_code)]
-// the references keep every digit the high-precision solver gave
-#![allow(clippy::excessive_precision)]
+//! Shared test fixtures: the public scenes of docs/MATH.md §8 (`cases.rs`), a seeded
+//! generator and small vector helpers.
+#![allow(dead_code, unused_imports)]
 
-/// The talk's case: mass matrix J and initial momentum.
-pub const TALK_J: [f64; 3] = [0.9218, 0.7382, 0.1763];
-pub const TALK_M0: [f64; 3] = [0.4165, 0.9072, 0.0588];
-/// Reference m(1), m(10), m(100) of the talk's case (MATH.md §8, independent high precision).
-pub const TALK_M1: [f64; 3] = [
-    0.40963676823852457273,
-    0.91216486689156377454,
-    -0.0097213021655047406612,
-];
-pub const TALK_M10: [f64; 3] = [
-    0.82717281856790628525,
-    -0.096647426825883589630,
-    -0.55352139354352065378,
-];
-pub const TALK_M100: [f64; 3] = [
-    0.66653809997201721994,
-    0.62577581339461293974,
-    0.40505940632949599801,
-];
-/// Existence limit of the DMV step at the talk's initial state (MATH.md §3).
-pub const TALK_MAX_STEP: f64 = 1.060273597;
+// the public scenes' constants, shared with the benches and the lab (one definition)
+mod cases;
+pub use cases::*;
 
-/// Hairer–Vilmart's driver case.
-pub const HV_I: [f64; 3] = [0.6, 0.8, 1.0];
-pub const HV_M0: [f64; 3] = [1.8, 0.4, -0.9];
-
-/// Reference attitude q(10) of the talk's case from q0 = 1 (mpmath, lab/refs/refs.json).
-pub const TALK_Q10: [f64; 4] = [
-    0.05848376704928084885,
-    -0.7688612700282374779,
-    -0.5298928566545770041,
-    0.35305177652681915446,
-];
-/// Reference m(10), q(10) of Hairer–Vilmart's driver case from q0 = 1.
-pub const HV_M10: [f64; 3] = [
-    1.76596250851820753572,
-    -0.6954641970330891194,
-    0.77955498148187108610,
-];
-pub const HV_Q10: [f64; 4] = [
-    -0.7360613641607939361,
-    -0.5707869512403507332,
-    -0.2993885718307900937,
-    -0.2068390861046731924,
-];
-
-/// SplitMix64: a small, seeded, reproducible generator for test inputs.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    /// Uniform on the unit sphere.
-    pub fn direction(&mut self) -> [f64; 3] {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, 2.0 * std::f64::consts::PI);
-        let r = (1.0 - z * z).sqrt();
-        [r * phi.cos(), r * phi.sin(), z]
-    }
-}
+// SplitMix64, the lab's generator (one definition for the whole repository)
+#[path = "../../lab/src/rng.rs"]
+mod rng;
+pub use rng::Rng;
 
 pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]

@@ -24,7 +24,7 @@ pub const METHODS: [&str; 8] = [
 
 /// Inertia shapes `(name, I)`: the talk's body, an elongated asteroid, a flat plate (`J3 = 0`).
 pub const SHAPES: [(&str, [f64; 3]); 3] = [
-    ("talk", [0.9145, 1.0981, 1.66]),
+    ("talk", crate::scenes::TALK_I),
     ("asteroid", [0.35, 0.9, 1.0]),
     ("flat plate", [1.0, 2.0, 3.0]),
 ];

@@ -17,8 +17,8 @@ use std::time::Instant;
 /// Instructions per momentum step on the Cortex-M4F, measured by the firmware under QEMU
 /// (f32, spacecraft scene; QEMU counts instructions, not cycles).
 pub const CORTEX_M4F: [(&str, &str, f64); 6] = [
-    ("mv", "mv", 333.0),
-    ("pre-mv4", "pre-mv4", 359.0),
+    ("mv", "mv", 308.0),
+    ("pre-mv4", "pre-mv4", 348.0),
     ("rk4", "rk4", 145.0),
     ("split µmath", "splitting", 306.0),
     ("split libm", "splitting", 7178.0),
