@@ -14,6 +14,7 @@ pub mod forced_methods;
 pub mod forced_work;
 pub mod general;
 pub mod hv_dmv;
+pub mod lgvi;
 pub mod loop_cost;
 pub mod methods;
 pub mod propagate;
