@@ -31,7 +31,7 @@ pub struct ForcedScene {
 }
 
 /// The forced methods of rigid3 competing for "best".
-pub const RIGID3_FORCED: [&str; 9] = [
+pub const RIGID3_FORCED: [&str; 8] = [
     "mv",
     "pre-mv4",
     "pre-mv6",
@@ -39,7 +39,6 @@ pub const RIGID3_FORCED: [&str; 9] = [
     "forced4",
     "forced6",
     "forced4-pre4",
-    "forced6-pre6",
     "forced6-pre6",
 ];
 
@@ -139,7 +138,7 @@ pub fn print_table(scene: &ForcedScene) -> bool {
          error level (max of |dm|/|m| and |dq|); sqrt and sin/cos counted as one op each",
         scene.name, scene.t_end
     );
-    let mine: Vec<(&str, Vec<Point>)> = RIGID3_FORCED[..8]
+    let mine: Vec<(&str, Vec<Point>)> = RIGID3_FORCED
         .iter()
         .map(|&m| (m, sweep(m, scene)))
         .collect();

@@ -1,7 +1,7 @@
 //! `rigid3-lab loop-cost`: host time per step with attitude in the real loop, where the step
 //! size, the momentum or the torque change every tick, against the fixed-step case.
 //!
-//! Scene: the README's spacecraft (`examples/attitude.rs`, [`crate::scenes::spacecraft`]) at
+//! Scene: the README's spacecraft (`firmware/src/bin/attitude.rs`, [`crate::scenes::spacecraft`]) at
 //! `h0 = 1/200`. Regimes, each applied before every step:
 //! - `fixed`: nothing changes;
 //! - `jitter`: `set_step_size(h)` with `h` uniform in `h0 (1 +- 0.05)`;

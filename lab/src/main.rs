@@ -100,6 +100,15 @@ enum Command {
         #[arg(long, default_value_t = 0.1)]
         h: f64,
     },
+    /// Forced work-precision at T = 10 against the mpmath references (lab/refs/forced_refs.json):
+    /// for each error level 1e-4..1e-10, the fewest counted operations of the best rigid3 forced
+    /// method and of RK4, the Strang splitting and the midpoint rule, with attitude.
+    ForcedWork {
+        /// Scene (heavy_top, satellite, gyrostat, lagrange_top, gravity_gradient,
+        /// body_torque); default: the three charted ones.
+        #[arg(long)]
+        scene: Option<String>,
+    },
     /// Table of the `loop` bench (`cargo bench -p rigid3-lab --bench loop`): ns per step of
     /// mv, hv-dmv and splitting at h = 0.001, 0.01, 0.1 and the ratios mv/hv-dmv, mv/splitting.
     LoopTable {
@@ -110,7 +119,7 @@ enum Command {
     /// Host ns per step with attitude of mv, pre-mv4, pre-mv10 (and the 5-rotation splitting)
     /// in f64 and f32 when h, m or the torque change every step: regimes fixed, jitter
     /// (set_step_size with h0 +-5%), corrected (m_i *= 1 + 1e-4 r_i), torque (m += h tau).
-    /// Spacecraft of examples/attitude.rs, h0 = 1/200; best of 3 batches after a warm-up.
+    /// Spacecraft of firmware/src/bin/attitude.rs, h0 = 1/200; best of 3 batches after a warm-up.
     LoopCost {
         /// Steps per timed batch.
         #[arg(long, default_value_t = rigid3_lab::loop_cost::DEFAULT_STEPS)]
@@ -122,7 +131,7 @@ enum Command {
     /// A long run with attitude: max relative drift of |m|^2, E and R(q) m so far at every
     /// decade of steps (10, 100, ..., and the last). The invariants are evaluated in f64 from
     /// the state after every step (not sampled; 10^8 f32 mv steps take well under a minute).
-    /// Defaults: the spacecraft of examples/attitude.rs (principal moments, m0 and q0 from its
+    /// Defaults: the spacecraft of firmware/src/bin/attitude.rs (principal moments, m0 and q0 from its
     /// inertia tensor and tumble rate), h = 1/200.
     Soak {
         /// Method name (see `rigid3-lab methods`).
@@ -281,6 +290,30 @@ fn main() -> ExitCode {
         },
         Command::Claims => {
             rigid3_lab::claims::print(&rigid3_lab::claims::measure());
+            ExitCode::SUCCESS
+        }
+        Command::ForcedWork { scene } => {
+            let names: Vec<String> = match scene {
+                Some(s) => vec![s],
+                None => rigid3_lab::forced_refs::CHARTED
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect(),
+            };
+            let mut all = true;
+            for name in names {
+                let Some(sc) = rigid3_lab::forced_refs::scene(&name, 10.0) else {
+                    eprintln!("unknown forced scene {name}");
+                    return ExitCode::FAILURE;
+                };
+                let wins = rigid3_lab::forced_work::print_table(&sc);
+                println!(
+                    "best rigid3 forced method cheaper than rk4 and splitting at every level: {}\n",
+                    if wins { "yes" } else { "no" }
+                );
+                all &= wins;
+            }
+            let _ = all;
             ExitCode::SUCCESS
         }
         Command::LoopTable { dir } => {

@@ -150,6 +150,12 @@ pub fn all(out: &Path) -> Result<(Vec<PathBuf>, Measured), String> {
     files.extend(stability::figure(out)?);
     step("figure 8", t);
 
+    let t = Instant::now();
+    let scenes = crate::forced_refs::charted();
+    let host = forced::host_times(&scenes);
+    files.extend(forced::figure(out, &scenes, &host)?);
+    step("figure 9", t);
+
     eprintln!("all figures in {:.1} s", t0.elapsed().as_secs_f64());
     Ok((files, measured))
 }
