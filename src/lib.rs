@@ -54,7 +54,7 @@
 //! assert!((body.energy(&s.m) - body.energy(&s0.m)).abs() < 1e-14);
 //!
 //! // preprocessed to order 10, the same cost per step is accurate to ~1e-15 at t = 10
-//! let mut pre = PreMv::new(body, 0.1, 10);
+//! let mut pre = PreMv::new(body, 0.1, 10).unwrap();
 //! let mut p = s0;
 //! for _ in 0..100 {
 //!     pre.step_state(&mut p).unwrap();

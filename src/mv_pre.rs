@@ -36,7 +36,7 @@ use crate::real::{c, sq, Real};
 /// construction, so an update is one evaluation of them and three divisions (counted in the
 /// README's flops table), and the `Mv` of the modified body keeps its tracked root as the
 /// start of a Newton re-solve.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct PreMv<T> {
     body: Body<T>,
     h: T,
@@ -57,11 +57,18 @@ pub struct PreMv<T> {
 }
 
 impl<T: Real> PreMv<T> {
-    /// A preprocessed DMV integrator of `order` (2, 4, 6, 8 or 10; other values are rounded
-    /// down to the nearest of these and clamped to 2..=10).
-    pub fn new(body: Body<T>, h: T, order: u8) -> Self {
-        let order = order.clamp(2, 10) & !1;
-        Self {
+    /// A preprocessed DMV integrator of `order`: 2 (plain DMV), 4, 6, 8 or 10 (the orders of
+    /// the Hairer–Vilmart modified moments, MATH.md §5).
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::InvalidOrder`] for any other order (it is not rounded to a nearby one: an
+    /// order-5 request that silently ran at order 4 would make an accuracy claim false).
+    pub fn new(body: Body<T>, h: T, order: u8) -> Result<Self, StepError> {
+        if !matches!(order, 2 | 4 | 6 | 8 | 10) {
+            return Err(StepError::InvalidOrder);
+        }
+        Ok(Self {
             body,
             h,
             order,
@@ -70,7 +77,7 @@ impl<T: Real> PreMv<T> {
             h_changed: false,
             invariants: None,
             modifier: Modifier::new(&body, order),
-        }
+        })
     }
 
     /// The order.
