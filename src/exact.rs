@@ -470,7 +470,7 @@ impl<T: Real> Tumble<T> {
 /// agree with [`Exact::at`] at `n h` to round-off. If the caller changes the state between
 /// steps, or after `2^20` steps, the trajectory is set up again from the current state.
 /// `h` may be negative (backwards in time). A step's errors are those of [`Exact::at`].
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Exact<T> {
     body: Body<T>,
     h: T,

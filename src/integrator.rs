@@ -39,6 +39,22 @@ impl<T: Real> State<T> {
 /// A one-step method for the free rigid body with a fixed step size.
 ///
 /// Both methods leave the state untouched when they return `Err`, and never produce NaN.
+///
+/// # Integrators are `Clone`, not `Copy`
+///
+/// Every integrator of this crate derives `Clone` but not `Copy` (the body, the state and the
+/// errors stay `Copy`). Most of them carry per-trajectory data between steps (`Mv`'s tracked
+/// root and invariant anchors, `PreMv`'s modified body, `Exact`'s set-up orbit), and each step
+/// checks whether its input is the state it returned last. A stepped copy is therefore never
+/// wrong, only silently worse: the original, stepped later, sees a state it did not return,
+/// re-solves its root (two to three times the cost of a step) and re-anchors its invariants,
+/// so the round-off holding of `|m|^2`, `E` and `R(q) m` over long runs is lost. With `Copy`,
+/// `fn tick<I: Integrator<f32>>(mut i: I, ..)` or `let mut a = b;` compiles and does exactly
+/// that; without it the compiler points at the move. A deliberate copy (firmware keeping a
+/// checkpoint, event location on a scratch integrator) is `.clone()`, the same memcpy of a few
+/// hundred bytes. Integrators without state (`Rk4`, `Splitting`) follow the rule too, so that
+/// adding a cache later is not a breaking change. (The same reasoning keeps
+/// `core::ops::Range`, an iterator, from being `Copy`.)
 pub trait Integrator<T> {
     /// Advances the body angular momentum by one step (momentum-only scenes: attitude is not
     /// computed, and costs nothing).

@@ -199,7 +199,7 @@ struct Advanced<T> {
 /// principal axis, `|m|` from `1e-150` to `1e150` (f64: everything is scaled by
 /// `max(J_max, h |m|)`), and up to [`Mv::max_step`], past which a step returns
 /// `StepTooLarge` and leaves the state as it was.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Mv<T> {
     body: Body<T>,
     h: T,
