@@ -92,6 +92,7 @@ mod mv_seed;
 mod real;
 mod rk4;
 mod splitting;
+pub mod tangent;
 pub mod torque;
 
 pub use body::Body;

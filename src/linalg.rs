@@ -293,7 +293,6 @@ impl<T: Real> Quat<T> {
         )
     }
     /// The rotation matrix of a unit quaternion (`x_space = R x_body`).
-    #[cfg(test)]
     #[inline]
     pub fn to_mat3(self) -> Mat3<T> {
         let two = T::ONE + T::ONE;

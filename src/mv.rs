@@ -464,6 +464,25 @@ impl<T: Real> Mv<T> {
         held
     }
 
+    /// `step_state` that also returns the step's turn `p = quat(X)` (`q' = q (x) p`,
+    /// `m' = R(p)^T m`), for the tangent map ([`crate::tangent`]). The same lines as
+    /// `step_state` (kept apart so the loop's step stays as it is; tests/jacobian.rs checks the
+    /// two give bit-identical states).
+    pub(crate) fn step_state_rotation(&mut self, s: &mut State<T>) -> Result<Quat<T>, StepError> {
+        let (v, q) = checked_state(s)?;
+        let follows_q = matches!(
+            &self.anchor,
+            Some(Anchor { last, spatial: Some(sp), .. }) if *last == v && sp.last_q == q
+        );
+        let step = self.advance(v)?;
+        let next = step.next;
+        let p = self.rotation_between(v, next, step.increment);
+        let q_next = compose_attitude(q, p);
+        let held = self.hold_spatial(follows_q, v, q, next, q_next);
+        write_state(s, next, held)?;
+        Ok(p)
+    }
+
     /// Changes the body, keeping the tracked root as the start of the next solve when the
     /// new mass matrix is within a factor of two of the old (the scale stays valid): what
     /// [`crate::PreMv`] does when the momentum or the step changes its modified moments
