@@ -95,6 +95,33 @@ pub trait Integrator<T> {
     /// Forgets per-trajectory data (tracked roots, caches), so the next step starts afresh as
     /// after construction. Integrators without such data do nothing.
     fn reset(&mut self) {}
+
+    /// The state one step of size `h` after `s` (any `h`, typically a fraction of the step),
+    /// leaving this integrator untouched: for output between steps and event location.
+    ///
+    /// The step is taken by a scratch copy of the integrator with its step size set to `h` and
+    /// its per-trajectory data forgotten, so the result is bit-identical to a freshly built
+    /// integrator's `step_state` with step `h`, and the tracked state of `self` (its roots,
+    /// anchors, caches), hence every later step, is exactly as if no partial step had been
+    /// taken. Its cost is that of a first step (for `Mv`, the root is found by Newton from its
+    /// series, no transcendental call at small `h |Omega|`); `q = [w, x, y, z]` as everywhere.
+    /// For [`crate::Exact`] it is the exact flow over `h`, as [`crate::Orbit::at`].
+    ///
+    /// # Errors
+    ///
+    /// Those of `step_state` with step `h` (`s` is only read).
+    fn step_partial(&self, s: &State<T>, h: T) -> Result<State<T>, StepError>
+    where
+        Self: Sized + Clone,
+        T: Copy,
+    {
+        let mut scratch = self.clone();
+        scratch.set_step_size(h);
+        scratch.reset();
+        let mut out = *s;
+        scratch.step_state(&mut out)?;
+        Ok(out)
+    }
 }
 
 /// Checks a state before a step: finite entries and a non-zero quaternion. Returns the
