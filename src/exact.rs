@@ -276,7 +276,11 @@ impl<T: Real> Orbit<T> {
     }
 
     /// Momentum and, when `q0` is given, attitude at time `t`.
-    pub(crate) fn eval(&self, q0: Option<Quat<T>>, t: T) -> Result<(Vec3<T>, Option<Quat<T>>), StepError> {
+    pub(crate) fn eval(
+        &self,
+        q0: Option<Quat<T>>,
+        t: T,
+    ) -> Result<(Vec3<T>, Option<Quat<T>>), StepError> {
         let s = self.rate * t;
         if !s.is_finite() {
             return Err(StepError::StepTooLarge);
@@ -576,7 +580,10 @@ impl<T: Real> Exact<T> {
 }
 
 /// Final check: finite output, or an error (the caller's state stays untouched).
-pub(crate) fn finish<T: Real>(m: Vec3<T>, q: Option<Quat<T>>) -> Result<([T; 3], [T; 4]), StepError> {
+pub(crate) fn finish<T: Real>(
+    m: Vec3<T>,
+    q: Option<Quat<T>>,
+) -> Result<([T; 3], [T; 4]), StepError> {
     let q = q.unwrap_or(Quat::from_array([T::ONE, T::ZERO, T::ZERO, T::ZERO]));
     if m.is_finite() && q.is_finite() {
         Ok((m.to_array(), q.to_array()))

@@ -307,6 +307,21 @@ impl<T: Real> Quat<T> {
             Vec3::new(two * (xz + wy), two * (yz - wx), one - two * (xx + yy)),
         )
     }
+    /// The conjugate `(w, -x, -y, -z)` (the inverse of a unit quaternion).
+    #[inline]
+    pub fn conjugate(self) -> Self {
+        Self {
+            w: self.w,
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+    /// `R(self)^T v` for a unit quaternion: the rotation by the conjugate.
+    #[inline]
+    pub fn inverse_rotate(self, v: Vec3<T>) -> Vec3<T> {
+        self.conjugate().rotate(v)
+    }
     /// `R(self) v` for a unit quaternion, without forming the matrix.
     #[inline]
     pub fn rotate(self, v: Vec3<T>) -> Vec3<T> {

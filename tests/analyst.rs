@@ -15,7 +15,11 @@ fn qdist(a: [f64; 4], b: [f64; 4]) -> f64 {
 fn orbit_at_is_exact_at_for_many_times_after_one_set_up() {
     let mut rng = Rng::new(13);
     for _ in 0..50 {
-        let j = [rng.range(0.05, 1.0), rng.range(0.05, 1.0), rng.range(0.05, 1.0)];
+        let j = [
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+        ];
         let body = Body::<f64>::from_mass_matrix(j).unwrap();
         let m = rng.direction().map(|x| x * rng.range(0.1, 3.0));
         let q = [0.3, -0.5, 0.7, 0.2];
@@ -59,7 +63,10 @@ fn orbit_agrees_with_references_and_a_fine_rk4_run() {
             worst = worst.max(dist(e.m, s.m)).max(qdist(e.q, s.q));
         }
     }
-    assert!(worst < 1e-10, "Orbit vs RK4 (h = 1e-3) to t = 10: {worst:e}");
+    assert!(
+        worst < 1e-10,
+        "Orbit vs RK4 (h = 1e-3) to t = 10: {worst:e}"
+    );
     let end = orbit.at(10.0).unwrap();
     assert!(dist(end.m, HV_M10) < 1e-13 && qdist(end.q, HV_Q10) < 1e-13);
 }
@@ -76,7 +83,11 @@ fn orbit_refuses_bad_input() {
     ] {
         assert_eq!(Orbit::new(&body, &bad).err(), Some(StepError::NonFinite));
     }
-    assert!(Orbit::new(&body, &State::new([1.5e308, 1.5e308, 0.0], [1.0, 0.0, 0.0, 0.0])).is_err());
+    assert!(Orbit::new(
+        &body,
+        &State::new([1.5e308, 1.5e308, 0.0], [1.0, 0.0, 0.0, 0.0])
+    )
+    .is_err());
     let orbit = Orbit::new(&body, &good).unwrap();
     for t in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         assert_eq!(orbit.at(t).err(), Some(StepError::NonFinite));
@@ -85,7 +96,10 @@ fn orbit_refuses_bad_input() {
     assert_eq!(orbit.at(1e300).err(), Some(StepError::StepTooLarge));
     // m = 0 and steady rotations
     let still = Orbit::new(&body, &State::new([0.0; 3], [0.0, 0.0, 0.0, 2.0])).unwrap();
-    assert_eq!(still.at(5.0).unwrap(), State::new([0.0; 3], [0.0, 0.0, 0.0, 1.0]));
+    assert_eq!(
+        still.at(5.0).unwrap(),
+        State::new([0.0; 3], [0.0, 0.0, 0.0, 1.0])
+    );
     let axis = Orbit::new(&body, &State::new([0.0, 0.0, 2.0], [1.0, 0.0, 0.0, 0.0])).unwrap();
     let s = axis.at(core::f64::consts::PI).unwrap(); // Omega = 2 about z: one turn
     assert_eq!(s.m, [0.0, 0.0, 2.0]);
@@ -114,7 +128,12 @@ fn run<I: Integrator<f64> + Clone>(
                 let p = a.step_partial(&s, frac * h).unwrap();
                 let mut f = s;
                 fresh(frac * h).step_state(&mut f).unwrap();
-                assert_eq!(p, f, "partial step differs from a fresh step of {}", frac * h);
+                assert_eq!(
+                    p,
+                    f,
+                    "partial step differs from a fresh step of {}",
+                    frac * h
+                );
             }
         }
         a.step_state(&mut s).unwrap();
@@ -143,7 +162,13 @@ fn partial_steps_leave_the_tracked_trajectory_bit_identical() {
     // errors: the state is only read
     let mv = Mv::new(body, h);
     let big = 1.01 * Mv::max_step(&body, &s0.m);
-    assert_eq!(mv.step_partial(&s0, big).err(), Some(StepError::StepTooLarge));
-    assert_eq!(mv.step_partial(&s0, f64::NAN).err(), Some(StepError::NonFinite));
+    assert_eq!(
+        mv.step_partial(&s0, big).err(),
+        Some(StepError::StepTooLarge)
+    );
+    assert_eq!(
+        mv.step_partial(&s0, f64::NAN).err(),
+        Some(StepError::NonFinite)
+    );
     assert_eq!(mv.step_size(), h);
 }
