@@ -36,6 +36,24 @@
 //! instructions, code size, stack) are measured, with the commands that measure them, in the
 //! README's tables: `Mv` takes 150 counted flops per momentum step and 367 with attitude.
 //!
+//! ## For analysts and filters
+//!
+//! [`Orbit`] is the exact trajectory through a state, set up once and evaluated at any `t`;
+//! [`Integrator::step_partial`] takes a step of any size without disturbing an integrator's
+//! tracked trajectory (output between steps, event location); [`Mv::step_with_jacobian`] and
+//! [`PreMv::step_with_jacobian`] return the step's 6x6 tangent map for a multiplicative EKF
+//! ([`tangent`]); [`Quaternion`] and [`Frame`] handle attitudes and the principal frame of an
+//! inertia tensor, with quaternions `[w, x, y, z]` at every boundary.
+//!
+//! ## Features
+//!
+//! - `mint`: `From`/`Into` between [`Quaternion`], [`State`] and `mint`'s `Quaternion` and
+//!   `Vector3` (mint's quaternion is `{ v: [x, y, z], s: w }`, i.e. `[x, y, z, w]`; the
+//!   conversions map by name), in the module `interop` (present with either feature).
+//! - `micromath`: the same for micromath 2's `Quaternion` (`(w, x, y, z)`) and
+//!   `vector::F32x3` (`f32` only).
+//! - `defmt`: `defmt::Format` on the public types.
+//!
 //! ## Example
 //!
 //! ```
@@ -83,6 +101,8 @@ mod forced;
 mod forced_rk4;
 mod frame;
 mod integrator;
+#[cfg(any(feature = "mint", feature = "micromath"))]
+pub mod interop;
 mod linalg;
 mod max_step;
 mod midpoint;
