@@ -309,8 +309,7 @@ impl<T: Real> Orbit<T> {
                         let dpsi = s * tb.inv_ip + tb.coef * (ph.s - tb.s0);
                         let a = dpsi * c::<T>(0.5);
                         let z = Quat::from_array([a.cos(), T::ZERO, T::ZERO, a.sin()]);
-                        let tail =
-                            Quat::from_array([ph.head.w, -ph.head.x, -ph.head.y, -ph.head.z]);
+                        let tail = ph.head.conjugate();
                         let rel = tb.head0.mul(z).mul(tail);
                         let v = tb.frame.body(rel.vector());
                         Some(compose_attitude(
