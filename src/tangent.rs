@@ -49,7 +49,7 @@
 //! case): a step with its Jacobian costs about 1.5 to 1.7 plain `step_state`s.
 
 use crate::error::StepError;
-use crate::integrator::{Integrator, State};
+use crate::integrator::{checked_state, Integrator, State};
 use crate::linalg::{Mat3, Vec3};
 use crate::mv::Mv;
 use crate::mv_pre::PreMv;
@@ -189,6 +189,11 @@ impl<T: Real> PreMv<T> {
     /// Those of `step_state`, and `Degenerate` or `Overflow` if the Jacobian is not finite; the
     /// state is left as it was on `Err`.
     pub fn step_with_jacobian(&mut self, s: &mut State<T>) -> Result<[[T; 6]; 6], StepError> {
+        // the step's own refusals first (the gradient would call a NaN an overflow)
+        checked_state(s)?;
+        if !self.step_size().is_finite() {
+            return Err(StepError::NonFinite);
+        }
         let dj = self.modified_mass_matrix_jacobian(&s.m)?;
         let mut out = *s;
         let (p, j) = self.step_state_rotation(&mut out)?;

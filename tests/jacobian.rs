@@ -464,12 +464,39 @@ fn jacobian_step_is_the_plain_step_and_keeps_the_state_on_error() {
     let mut s = s0;
     assert!(Mv::new(body, h).step_with_jacobian(&mut s).is_err());
     assert_eq!(s, s0);
-    let mut s = State::new([f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]);
-    assert!(Mv::new(body, 0.1).step_with_jacobian(&mut s).is_err());
-    assert!(PreMv::new(body, 0.1, 4)
-        .unwrap()
-        .step_with_jacobian(&mut s)
-        .is_err());
+    let nan = State::new([f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]);
+    let zero_q = State::new([1.0, 0.0, 0.0], [0.0; 4]);
+    for bad in [nan, zero_q] {
+        let mut s = bad;
+        let e = Some(rigid3::StepError::NonFinite);
+        assert_eq!(Mv::new(body, 0.1).step_with_jacobian(&mut s).err(), e);
+        for order in [2u8, 4, 10] {
+            let mut pre = PreMv::new(body, 0.1, order).unwrap();
+            assert_eq!(pre.step_with_jacobian(&mut s).err(), e);
+        }
+        assert_eq!(s.m[1..], bad.m[1..]);
+    }
+    let mut s = s0;
+    let e = Some(rigid3::StepError::NonFinite);
+    assert_eq!(Mv::new(body, f64::NAN).step_with_jacobian(&mut s).err(), e);
+    let mut pre = PreMv::new(body, f64::INFINITY, 6).unwrap();
+    assert_eq!(pre.step_with_jacobian(&mut s).err(), e);
+    assert_eq!(s, s0);
+}
+
+#[test]
+fn f32_jacobian_is_the_f64_one_to_single_precision() {
+    let mut rng = Rng::new(32);
+    for _ in 0..200 {
+        let (inertia, s, h) = scene(&mut rng);
+        let (_, _, f64_jac) = analytic(Method::Mv, inertia, h, &s, 0);
+        let body = Body::<f32>::from_inertia(inertia.map(|x| x as f32)).unwrap();
+        let mut x = State::new(s.m.map(|v| v as f32), s.q.map(|v| v as f32));
+        let f = Mv::new(body, h as f32).step_with_jacobian(&mut x).unwrap();
+        let f = f.map(|r| r.map(f64::from));
+        let (d, scale) = max_diff(&f, &f64_jac);
+        assert!(d <= 2e-4 * scale.max(1.0), "{d:e} (scale {scale:e})");
+    }
 }
 
 #[test]
