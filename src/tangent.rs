@@ -41,12 +41,13 @@
 //! This is the exact derivative of the DMV map (not of its round-off). Against forward-mode
 //! dual numbers run through the generic step of a fresh integrator (tests/jacobian.rs, f64,
 //! `10^3` random bodies, states and steps up to 0.9 of the existence limit or one radian of
-//! turn), `max |F - F_dual| / max(1, max |F|)` is `3.4e-15` for `Mv` and `1.1e-15` for
+//! turn), `max |F - F_dual| / max(1, max |F|)` is `2.6e-15` for `Mv` and `7.1e-16` for
 //! `PreMv` (orders 2 to 10); Richardson-extrapolated central differences agree to their own
 //! accuracy (`2e-10`). The step itself is the ordinary `step_state` (same result, same
-//! tracking); the Jacobian adds one 3x3 inverse (one division) and five 3x3 products, and
-//! `PreMv` the gradient of its modified moments (no division). Measured on x86-64 (f64, talk's
-//! case): a step with its Jacobian costs about 1.5 to 1.7 plain `step_state`s.
+//! tracking); the Jacobian adds `X = R(p)` from the step's turn `p`, one 3x3 inverse (one
+//! division) and two 3x3 products (`PreMv`: two more, and the gradient of its modified moments,
+//! no division). Measured on x86-64 (f64, talk's case): a step with its Jacobian costs about
+//! 1.7 plain `step_state`s.
 
 use crate::error::StepError;
 use crate::integrator::{checked_state, Integrator, State};
@@ -72,9 +73,11 @@ fn dmv_tangent<T: Real>(
         return Err(StepError::Degenerate);
     }
     let xt = x.transpose();
-    // h I - V(X) dJ/dm; V(X) has rows (0, X21, -X12), (-X20, 0, X02), (X10, -X01, 0)
-    let rhs = match dj {
-        None => Mat3::identity().scale(h),
+    let xn = xt.mul_mat(&n_inv);
+    // Phi = X^T N^-1 (h I - V(X) dJ/dm); V(X) has rows (0, X21, -X12), (-X20, 0, X02),
+    // (X10, -X01, 0)
+    let phi = match dj {
+        None => xn.scale(h),
         Some(dj) => {
             let z = T::ZERO;
             let (x01, x02) = (x.y_axis.x, x.z_axis.x);
@@ -85,10 +88,9 @@ fn dmv_tangent<T: Real>(
                 Vec3::new(x21, z, -x01),
                 Vec3::new(-x12, x02, z),
             );
-            Mat3::identity().scale(h).sub(&v.mul_mat(dj))
+            xn.mul_mat(&Mat3::identity().scale(h).sub(&v.mul_mat(dj)))
         }
     };
-    let phi = xt.mul_mat(&n_inv).mul_mat(&rhs);
     let a = xt.add(&Mat3::hat(m_next).mul_mat(&phi));
     let (a0, a1, a2) = (a.row0(), a.row1(), a.row2());
     let (p0, p1, p2) = (phi.row0(), phi.row1(), phi.row2());
@@ -116,9 +118,9 @@ impl<T: Real> Mv<T> {
     /// `q = [w, x, y, z]`.
     ///
     /// The step is exactly [`Integrator::step_state`] (same state, same tracking); `F` is the
-    /// implicit derivative of the DMV equation (module docs), exact to round-off (`3.4e-15`
-    /// relative in f64 against dual numbers), for one 3x3 inverse and five 3x3 products more
-    /// than the step (about 1.6 times its cost).
+    /// implicit derivative of the DMV equation (module docs), exact to round-off (`2.6e-15`
+    /// relative in f64 against dual numbers), for one 3x3 inverse and two 3x3 products more
+    /// than the step (about 1.7 times its cost).
     ///
     /// # Errors
     ///
