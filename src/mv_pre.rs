@@ -59,7 +59,7 @@ pub struct PreMv<T> {
 
 impl<T: Real> PreMv<T> {
     /// A preprocessed DMV integrator of `order`: 2 (plain DMV), 4, 6, 8 or 10 (the orders of
-    /// the Hairer–Vilmart modified moments, MATH.md §5).
+    /// the Hairer–Vilmart modified moments, docs/MATH.md §5).
     ///
     /// # Errors
     ///

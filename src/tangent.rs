@@ -15,7 +15,7 @@
 //!
 //! # Derivation (implicit differentiation of the DMV equation)
 //!
-//! The step solves `h hat(m) = X J - J X^T` (MATH.md §2) and sets `m' = X^T m`,
+//! The step solves `h hat(m) = X J - J X^T` (docs/MATH.md §2) and sets `m' = X^T m`,
 //! `q' = q (x) quat(X)`. Perturb `X -> X (I + hat(phi))`, `m -> m + dm`, `J -> J + dJ` (for
 //! [`PreMv`] the modified mass matrix depends on `m` through `|m|^2` and the energy). With
 //! `W = X J` and the identity `hat(psi) W + W^T hat(psi) = hat((tr W I - W) psi)` (valid for any
@@ -183,7 +183,7 @@ impl<T: Real> PreMv<T> {
     ///
     /// The modified moments `I~` depend on the momentum through `|m|^2` and the energy, so the
     /// Jacobian includes their gradient (`dJ~/dm`, from the tabulated polynomials of
-    /// MATH.md §5, exact); it is the derivative of the order-`2r` map, and so agrees with the
+    /// docs/MATH.md §5, exact); it is the derivative of the order-`2r` map, and so agrees with the
     /// exact flow's Jacobian to `O(h^(2r))`.
     ///
     /// # Errors
