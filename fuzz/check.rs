@@ -141,8 +141,8 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> Option<Tally> {
     Some(match method % 11 {
         0 => run(Mv::new(body, h), m, q),
         1 => run(SeedMv::new(body, h), m, q),
-        2 => run(PreMv::new(body, h, 4 + 2 * (r.pick() % 4)), m, q),
-        3 => run(RetimedMv::new(body, h, 2), m, q),
+        2 => run(PreMv::new(body, h, 4 + 2 * (r.pick() % 4)).ok()?, m, q),
+        3 => run(RetimedMv::new(body, h, 2).ok()?, m, q),
         4 => run(Splitting::new(body, h), m, q),
         5 => run(Splitting2::new(body, h), m, q),
         6 => run(Midpoint::new(body, h), m, q),

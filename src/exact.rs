@@ -110,9 +110,9 @@ impl Frame {
     }
 }
 
-/// One trajectory, set up from an initial state.
+/// One trajectory, set up from an initial state (public as [`crate::Orbit`]).
 #[derive(Clone, Copy, Debug)]
-struct Orbit<T> {
+pub(crate) struct Orbit<T> {
     /// `|m|`.
     norm: T,
     /// `|m| / I_max`: scaled time per unit time.
@@ -242,7 +242,7 @@ impl<T: Real> Tumble<T> {
 }
 
 impl<T: Real> Orbit<T> {
-    fn new(body: &Body<T>, m: Vec3<T>, attitude: bool) -> Result<Self, StepError> {
+    pub(crate) fn new(body: &Body<T>, m: Vec3<T>, attitude: bool) -> Result<Self, StepError> {
         let big = m.max_abs();
         let inertia = Vec3::from_array(body.inertia());
         let imax = inertia.max_abs();
@@ -276,7 +276,11 @@ impl<T: Real> Orbit<T> {
     }
 
     /// Momentum and, when `q0` is given, attitude at time `t`.
-    fn eval(&self, q0: Option<Quat<T>>, t: T) -> Result<(Vec3<T>, Option<Quat<T>>), StepError> {
+    pub(crate) fn eval(
+        &self,
+        q0: Option<Quat<T>>,
+        t: T,
+    ) -> Result<(Vec3<T>, Option<Quat<T>>), StepError> {
         let s = self.rate * t;
         if !s.is_finite() {
             return Err(StepError::StepTooLarge);
@@ -305,8 +309,7 @@ impl<T: Real> Orbit<T> {
                         let dpsi = s * tb.inv_ip + tb.coef * (ph.s - tb.s0);
                         let a = dpsi * c::<T>(0.5);
                         let z = Quat::from_array([a.cos(), T::ZERO, T::ZERO, a.sin()]);
-                        let tail =
-                            Quat::from_array([ph.head.w, -ph.head.x, -ph.head.y, -ph.head.z]);
+                        let tail = ph.head.conjugate();
                         let rel = tb.head0.mul(z).mul(tail);
                         let v = tb.frame.body(rel.vector());
                         Some(compose_attitude(
@@ -470,7 +473,7 @@ impl<T: Real> Tumble<T> {
 /// agree with [`Exact::at`] at `n h` to round-off. If the caller changes the state between
 /// steps, or after `2^20` steps, the trajectory is set up again from the current state.
 /// `h` may be negative (backwards in time). A step's errors are those of [`Exact::at`].
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Exact<T> {
     body: Body<T>,
     h: T,
@@ -512,13 +515,10 @@ impl<T: Real> Exact<T> {
     /// overflow, and [`StepError::Degenerate`] when the elliptic functions cannot be
     /// evaluated for this orbit.
     pub fn at(body: &Body<T>, s0: &State<T>, t: T) -> Result<State<T>, StepError> {
-        let (m, q) = checked_state(s0)?;
         if !t.is_finite() {
             return Err(StepError::NonFinite);
         }
-        let (m, q) = Orbit::new(body, m, true)?.eval(Some(q), t)?;
-        let q = q.ok_or(StepError::Degenerate)?;
-        finish(m, Some(q)).map(|(m, q)| State::new(m, q))
+        crate::orbit::Orbit::new(body, s0)?.at(t)
     }
 
     /// The exact body momentum at time `t` (any sign) from `m0`.
@@ -579,7 +579,10 @@ impl<T: Real> Exact<T> {
 }
 
 /// Final check: finite output, or an error (the caller's state stays untouched).
-fn finish<T: Real>(m: Vec3<T>, q: Option<Quat<T>>) -> Result<([T; 3], [T; 4]), StepError> {
+pub(crate) fn finish<T: Real>(
+    m: Vec3<T>,
+    q: Option<Quat<T>>,
+) -> Result<([T; 3], [T; 4]), StepError> {
     let q = q.unwrap_or(Quat::from_array([T::ONE, T::ZERO, T::ZERO, T::ZERO]));
     if m.is_finite() && q.is_finite() {
         Ok((m.to_array(), q.to_array()))

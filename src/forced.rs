@@ -100,13 +100,7 @@ fn half_turn<T: Real>(w: Vec3<T>, h: T) -> Option<Quat<T>> {
 /// `R(p)^T m`.
 #[inline]
 fn unrotate<T: Real>(p: Quat<T>, m: Vec3<T>) -> Vec3<T> {
-    Quat {
-        w: p.w,
-        x: -p.x,
-        y: -p.y,
-        z: -p.z,
-    }
-    .rotate(m)
+    p.inverse_rotate(m)
 }
 
 /// What the forced step needs besides the drift.

@@ -15,7 +15,7 @@ use crate::torque::Torque;
 /// Four torque evaluations a step (at `t`, twice at `t + h/2`, at `t + h`). The time is
 /// advanced by a plain sum. A step whose result overflows returns `Overflow` and leaves the
 /// state as it was.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct ForcedRk4<T, F> {
     body: Body<T>,
     inv_i: Vec3<T>,

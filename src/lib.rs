@@ -36,6 +36,24 @@
 //! instructions, code size, stack) are measured, with the commands that measure them, in the
 //! README's tables: `Mv` takes 150 counted flops per momentum step and 367 with attitude.
 //!
+//! ## For analysts and filters
+//!
+//! [`Orbit`] is the exact trajectory through a state, set up once and evaluated at any `t`;
+//! [`Integrator::step_partial`] takes a step of any size without disturbing an integrator's
+//! tracked trajectory (output between steps, event location); [`Mv::step_with_jacobian`] and
+//! [`PreMv::step_with_jacobian`] return the step's 6x6 tangent map for a multiplicative EKF
+//! ([`tangent`]); [`Quaternion`] and [`Frame`] handle attitudes and the principal frame of an
+//! inertia tensor, with quaternions `[w, x, y, z]` at every boundary.
+//!
+//! ## Features
+//!
+//! - `mint`: `From`/`Into` between [`Quaternion`], [`State`] and `mint`'s `Quaternion` and
+//!   `Vector3` (mint's quaternion is `{ v: [x, y, z], s: w }`, i.e. `[x, y, z, w]`; the
+//!   conversions map by name), in the module `interop` (present with either feature).
+//! - `micromath`: the same for micromath 2's `Quaternion` (`(w, x, y, z)`) and
+//!   `vector::F32x3` (`f32` only).
+//! - `defmt`: `defmt::Format` on the public types.
+//!
 //! ## Example
 //!
 //! ```
@@ -54,7 +72,7 @@
 //! assert!((body.energy(&s.m) - body.energy(&s0.m)).abs() < 1e-14);
 //!
 //! // preprocessed to order 10, the same cost per step is accurate to ~1e-15 at t = 10
-//! let mut pre = PreMv::new(body, 0.1, 10);
+//! let mut pre = PreMv::new(body, 0.1, 10).unwrap();
 //! let mut p = s0;
 //! for _ in 0..100 {
 //!     pre.step_state(&mut p).unwrap();
@@ -81,7 +99,10 @@ mod error;
 mod exact;
 mod forced;
 mod forced_rk4;
+mod frame;
 mod integrator;
+#[cfg(any(feature = "mint", feature = "micromath"))]
+pub mod interop;
 mod linalg;
 mod max_step;
 mod midpoint;
@@ -89,9 +110,12 @@ mod mv;
 mod mv_pre;
 mod mv_retimed;
 mod mv_seed;
+mod orbit;
+mod quat;
 mod real;
 mod rk4;
 mod splitting;
+pub mod tangent;
 pub mod torque;
 
 pub use body::Body;
@@ -99,12 +123,15 @@ pub use error::{BodyError, StepError};
 pub use exact::Exact;
 pub use forced::{Composed, Forced};
 pub use forced_rk4::ForcedRk4;
+pub use frame::Frame;
 pub use integrator::{Integrator, State};
 pub use midpoint::{Midpoint, Solver};
 pub use mv::Mv;
 pub use mv_pre::PreMv;
 pub use mv_retimed::RetimedMv;
 pub use mv_seed::SeedMv;
+pub use orbit::Orbit;
+pub use quat::Quaternion;
 pub use real::Real;
 pub use rk4::Rk4;
 pub use splitting::{Splitting, Splitting2};

@@ -293,7 +293,6 @@ impl<T: Real> Quat<T> {
         )
     }
     /// The rotation matrix of a unit quaternion (`x_space = R x_body`).
-    #[cfg(test)]
     #[inline]
     pub fn to_mat3(self) -> Mat3<T> {
         let two = T::ONE + T::ONE;
@@ -307,6 +306,21 @@ impl<T: Real> Quat<T> {
             Vec3::new(two * (xy - wz), one - two * (xx + zz), two * (yz + wx)),
             Vec3::new(two * (xz + wy), two * (yz - wx), one - two * (xx + yy)),
         )
+    }
+    /// The conjugate `(w, -x, -y, -z)` (the inverse of a unit quaternion).
+    #[inline]
+    pub fn conjugate(self) -> Self {
+        Self {
+            w: self.w,
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+    /// `R(self)^T v` for a unit quaternion: the rotation by the conjugate.
+    #[inline]
+    pub fn inverse_rotate(self, v: Vec3<T>) -> Vec3<T> {
+        self.conjugate().rotate(v)
     }
     /// `R(self) v` for a unit quaternion, without forming the matrix.
     #[inline]

@@ -35,7 +35,7 @@ pub enum Solver {
 /// `q_{k+1} = q_k (x) (1 + w) / (1 - w)`, `w = (0, h Omega(y) / 4)`, a unit quaternion by
 /// construction (renormalised only against round-off). `R(q) m` is a cubic invariant and is
 /// conserved only to the order of the method.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Midpoint<T> {
     body: Body<T>,
     inv_i: Vec3<T>,

@@ -199,7 +199,7 @@ struct Advanced<T> {
 /// principal axis, `|m|` from `1e-150` to `1e150` (f64: everything is scaled by
 /// `max(J_max, h |m|)`), and up to [`Mv::max_step`], past which a step returns
 /// `StepTooLarge` and leaves the state as it was.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Mv<T> {
     body: Body<T>,
     h: T,
@@ -462,6 +462,25 @@ impl<T: Real> Mv<T> {
         let held = if turned.is_finite() { turned } else { q_next };
         sp.last_q = held;
         held
+    }
+
+    /// `step_state` that also returns the step's turn `p = quat(X)` (`q' = q (x) p`,
+    /// `m' = R(p)^T m`), for the tangent map ([`crate::tangent`]). The same lines as
+    /// `step_state` (kept apart so the loop's step stays as it is; tests/jacobian.rs checks the
+    /// two give bit-identical states).
+    pub(crate) fn step_state_rotation(&mut self, s: &mut State<T>) -> Result<Quat<T>, StepError> {
+        let (v, q) = checked_state(s)?;
+        let follows_q = matches!(
+            &self.anchor,
+            Some(Anchor { last, spatial: Some(sp), .. }) if *last == v && sp.last_q == q
+        );
+        let step = self.advance(v)?;
+        let next = step.next;
+        let p = self.rotation_between(v, next, step.increment);
+        let q_next = compose_attitude(q, p);
+        let held = self.hold_spatial(follows_q, v, q, next, q_next);
+        write_state(s, next, held)?;
+        Ok(p)
     }
 
     /// Changes the body, keeping the tracked root as the start of the next solve when the

@@ -17,6 +17,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{checked_momentum, Integrator, State};
+use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv::Mv;
 use crate::real::{c, sq, Real};
 
@@ -36,7 +37,7 @@ use crate::real::{c, sq, Real};
 /// construction, so an update is one evaluation of them and three divisions (counted in the
 /// README's flops table), and the `Mv` of the modified body keeps its tracked root as the
 /// start of a Newton re-solve.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct PreMv<T> {
     body: Body<T>,
     h: T,
@@ -57,11 +58,18 @@ pub struct PreMv<T> {
 }
 
 impl<T: Real> PreMv<T> {
-    /// A preprocessed DMV integrator of `order` (2, 4, 6, 8 or 10; other values are rounded
-    /// down to the nearest of these and clamped to 2..=10).
-    pub fn new(body: Body<T>, h: T, order: u8) -> Self {
-        let order = order.clamp(2, 10) & !1;
-        Self {
+    /// A preprocessed DMV integrator of `order`: 2 (plain DMV), 4, 6, 8 or 10 (the orders of
+    /// the Hairer–Vilmart modified moments, docs/MATH.md §5).
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::InvalidOrder`] for any other order (it is not rounded to a nearby one: an
+    /// order-5 request that silently ran at order 4 would make an accuracy claim false).
+    pub fn new(body: Body<T>, h: T, order: u8) -> Result<Self, StepError> {
+        if !matches!(order, 2 | 4 | 6 | 8 | 10) {
+            return Err(StepError::InvalidOrder);
+        }
+        Ok(Self {
             body,
             h,
             order,
@@ -70,7 +78,7 @@ impl<T: Real> PreMv<T> {
             h_changed: false,
             invariants: None,
             modifier: Modifier::new(&body, order),
-        }
+        })
     }
 
     /// The order.
@@ -429,4 +437,94 @@ fn reciprocals<T: Real>([x, y, z]: [T; 3]) -> [T; 3] {
         }
     }
     [T::ONE / x, T::ONE / y, T::ONE / z]
+}
+
+// The tangent map's pieces (issue 13; used by `crate::tangent`): appended, so the step above is
+// unchanged.
+impl<T: Real> PreMv<T> {
+    /// `step_state` that also returns the step's turn `p = quat(X)` and the modified body's
+    /// mass matrix `J~` it was taken with (the same lines as `step_state`).
+    #[inline]
+    pub(crate) fn step_state_rotation(
+        &mut self,
+        s: &mut State<T>,
+    ) -> Result<(Quat<T>, Vec3<T>), StepError> {
+        let p = match self.prepare(&s.m)? {
+            None => self.mv.step_state_rotation(s)?,
+            Some(held) => {
+                let mut next = State::new(held, s.q);
+                let p = self.mv.step_state_rotation(&mut next)?;
+                *s = next;
+                p
+            }
+        };
+        self.last = Some(s.m);
+        self.h_changed = false;
+        Ok((p, Vec3::from_array(self.mv.body().mass_matrix())))
+    }
+
+    /// `d J~ / d m` at momentum `m` (row `i` is the gradient of `J~_i`; zero for order 2).
+    pub(crate) fn modified_mass_matrix_jacobian(&self, m: &[T; 3]) -> Result<Mat3<T>, StepError> {
+        let di = self.modifier.modified_inertia_jacobian(self.h, m)?;
+        // J~_i = (I~_j + I~_k - I~_i) / 2, row by row
+        let (r0, r1, r2) = (di.row0(), di.row1(), di.row2());
+        let half = c::<T>(0.5);
+        let j0 = r1.add(r2).sub(r0).scale(half);
+        let j1 = r0.add(r2).sub(r1).scale(half);
+        let j2 = r0.add(r1).sub(r2).scale(half);
+        Ok(Mat3::from_cols(j0, j1, j2).transpose())
+    }
+}
+
+impl<T: Real> Modifier<T> {
+    /// `d I~ / d m` (row `i` is the gradient of `I~_i`), by differentiating
+    /// `1 / I~_i = (1 + s(C, H)) / I_i + d(C, H)` with `grad C = h^2 m`,
+    /// `grad H = h^2 I^-1 m`: `grad I~_i = -I~_i^2 ((s_C grad C + s_H grad H) / I_i + d_C grad C
+    /// + d_H grad H)`. The partials of the tabulated polynomials are exact (monomial by
+    /// monomial), so this is as accurate as `I~` itself.
+    fn modified_inertia_jacobian(&self, h: T, m: &[T; 3]) -> Result<Mat3<T>, StepError> {
+        let inertia = self.modified_inertia(h, m)?;
+        let zero = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        if self.order <= 2 {
+            return Ok(Mat3::from_cols(zero, zero, zero));
+        }
+        let [a1, a2, a3] = self.inv_i;
+        let h2 = sq(h);
+        let mv = Vec3::from_array(*m);
+        let (m1, m2, m3) = (sq(m[0]), sq(m[1]), sq(m[2]));
+        let cc = h2 * (m1 + m2 + m3) * c::<T>(0.5);
+        let hh = h2 * (m1 * a1 + m2 * a2 + m3 * a3) * c::<T>(0.5);
+        let cp = [T::ONE, cc, sq(cc), sq(cc) * cc];
+        let hp = [T::ONE, hh, sq(hh), sq(hh) * hh];
+        let (mut s_c, mut s_h, mut d_c, mut d_h) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
+        // s[k][a] multiplies C^a H^(k + 1 - a)
+        for (k, (sk, dk)) in self.s.iter().zip(self.d.iter()).enumerate() {
+            let deg = k + 1;
+            for a in 0..=deg {
+                let b = deg - a;
+                if a > 0 {
+                    let w = c::<T>(a as f64) * cp[a - 1] * hp[b];
+                    s_c += sk[a] * w;
+                    d_c += dk[a] * w;
+                }
+                if b > 0 {
+                    let w = c::<T>(b as f64) * cp[a] * hp[b - 1];
+                    s_h += sk[a] * w;
+                    d_h += dk[a] * w;
+                }
+            }
+        }
+        let grad_c = mv.scale(h2);
+        let grad_h = Vec3::new(a1 * mv.x, a2 * mv.y, a3 * mv.z).scale(h2);
+        let gs = grad_c.scale(s_c).add(grad_h.scale(s_h));
+        let gd = grad_c.scale(d_c).add(grad_h.scale(d_h));
+        let row = |ii: T, a: T| gs.scale(a).add(gd).scale(-sq(ii));
+        let [i1, i2, i3] = inertia;
+        let jac = Mat3::from_cols(row(i1, a1), row(i2, a2), row(i3, a3)).transpose();
+        if jac.is_finite() {
+            Ok(jac)
+        } else {
+            Err(StepError::Overflow)
+        }
+    }
 }

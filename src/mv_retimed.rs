@@ -29,7 +29,7 @@ use crate::real::{c, Real};
 /// requested times (the set-up solves `tau(h') = h` to `8 eps`, so the phase error grows as
 /// `8 eps n`); `q` at the order of the underlying DMV. On an equilibrium (momentum on a
 /// principal axis, or zero) there is no time to match and `h' = h`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct RetimedMv<T> {
     body: Body<T>,
     h: T,
@@ -39,15 +39,18 @@ pub struct RetimedMv<T> {
 }
 
 impl<T: Real> RetimedMv<T> {
-    /// A retimed DMV of `order` (2: plain DMV; 4 to 10: preprocessed) with step `h`.
-    #[must_use]
-    pub fn new(body: Body<T>, h: T, order: u8) -> Self {
-        Self {
+    /// A retimed DMV of `order` (2: plain DMV; 4, 6, 8 or 10: preprocessed) with step `h`.
+    ///
+    /// # Errors
+    ///
+    /// [`StepError::InvalidOrder`] for any other order, as [`PreMv::new`].
+    pub fn new(body: Body<T>, h: T, order: u8) -> Result<Self, StepError> {
+        Ok(Self {
             body,
             h,
             order,
-            inner: PreMv::new(body, h, order),
-        }
+            inner: PreMv::new(body, h, order)?,
+        })
     }
 
     /// The DMV step `h'` whose exact time is `h` from momentum `m`.
@@ -73,7 +76,7 @@ impl<T: Real> RetimedMv<T> {
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
         let h = retime(&self.body, self.h, self.order, m)?;
-        self.inner = PreMv::new(self.body, h, self.order);
+        self.inner = PreMv::new(self.body, h, self.order)?;
         Ok(())
     }
 }
@@ -119,7 +122,7 @@ fn retime<T: Real>(body: &Body<T>, h: T, order: u8, m: &[T; 3]) -> Result<T, Ste
     // tau(h') - h by one DMV step and the exact time of its result
     let tau = |hp: T| -> Result<T, StepError> {
         let mut m1 = *m;
-        PreMv::new(*body, hp, order).step(&mut m1)?;
+        PreMv::new(*body, hp, order)?.step(&mut m1)?;
         exact_time(body, m, &m1, hp)
     };
     let (mut a, mut b) = (h, h * c::<T>(0.99));

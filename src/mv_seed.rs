@@ -33,7 +33,7 @@ use crate::real::{c, sq, Real};
 /// (`StepTooLarge`); any `X` further than `450 eps` (1e-13 in f64) from orthogonal is refused (`Degenerate`: about 1 random input in 2500 in the lab's cross-check).
 /// Near root collisions the eigenvectors lose accuracy (about `1e-11` in f64). See `Mv` for
 /// the closed form that has none of these.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct SeedMv<T> {
     body: Body<T>,
     h: T,

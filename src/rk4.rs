@@ -16,7 +16,7 @@ use crate::real::{c, Real};
 /// is the accuracy-per-cost leader at short horizons and loses at long ones. Explicit, so
 /// past `h |Omega| ~ 2.8` it blows up: a step whose result overflows returns
 /// `StepError::Overflow` and leaves the state as it was.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Rk4<T> {
     body: Body<T>,
     inv_i: Vec3<T>,

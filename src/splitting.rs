@@ -107,7 +107,7 @@ fn finish<T: Real>(m: Vec3<T>) -> Result<[T; 3], StepError> {
 ///
 /// At any step size the result is finite (rotations only); past `h |Omega| ~ 1` it is
 /// inaccurate, with no warning: there is no stability limit to report.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Splitting<T> {
     body: Body<T>,
     inv_i: Vec3<T>,
@@ -197,7 +197,7 @@ impl<T: Real> Integrator<T> for Splitting<T> {
 /// `1/I_i - c`, of opposite signs), with the half steps on the axis of the smallest moment:
 /// on the talk's case the error at `t = 10` is about `0.0027 h^2`, a hundred times below
 /// [`Splitting`] (docs/MATH.md §7; the other five arrangements give `0.0043` to `0.032`).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Splitting2<T> {
     body: Body<T>,
     /// `1/I_i - 1/I_k` for the two rotating axes, in the order (a, b, k).

@@ -171,14 +171,7 @@ impl<T: Real> GravityGradient<T> {
     fn nadir(&self, t: T, q: &[T; 4]) -> Vec3<T> {
         let a = self.n * t;
         let n = Vec3::new(a.cos(), a.sin(), T::ZERO);
-        let q = Quat::from_array(*q);
-        Quat {
-            w: q.w,
-            x: -q.x,
-            y: -q.y,
-            z: -q.z,
-        }
-        .rotate(n)
+        Quat::from_array(*q).inverse_rotate(n)
     }
 }
 

@@ -205,7 +205,7 @@ fn periodic_torque_and_rotor_orders_with_pre_mv_drift() {
     let errs: Vec<f64> = hs
         .iter()
         .map(|&h| {
-            let mut f = Forced::new(PreMv::new(body, h, 4), torque);
+            let mut f = Forced::new(PreMv::new(body, h, 4).unwrap(), torque);
             f.set_rotor(rotor).unwrap();
             error_at(f, s0, t, &reference)
         })

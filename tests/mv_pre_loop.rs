@@ -23,7 +23,7 @@ fn corrected_and_jittered_steps_equal_a_fresh_build() {
     let mut rng = Rng::new(21);
     for order in [4u8, 6, 8, 10] {
         for &h0 in &[0.005, 0.05, 0.2] {
-            let mut pre = PreMv::new(body, h0, order);
+            let mut pre = PreMv::new(body, h0, order).unwrap();
             let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
             for k in 0..100 {
                 let h = if k % 2 == 0 {
@@ -35,7 +35,7 @@ fn corrected_and_jittered_steps_equal_a_fresh_build() {
                 for mi in s.m.iter_mut() {
                     *mi *= 1.0 + 1e-4 * rng.range(-1.0, 1.0);
                 }
-                let mut fresh = PreMv::new(body, h, order);
+                let mut fresh = PreMv::new(body, h, order).unwrap();
                 let mut f = s;
                 fresh.step_state(&mut f).unwrap();
                 pre.step_state(&mut s).unwrap();
@@ -55,7 +55,7 @@ fn corrected_and_jittered_steps_equal_a_fresh_build() {
 fn jittered_error(body: Body<f64>, order: u8, h: f64) -> f64 {
     let mut rng = Rng::new(99);
     let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
-    let mut pre = PreMv::new(body, h, order);
+    let mut pre = PreMv::new(body, h, order).unwrap();
     let mut s = s0;
     let mut t = 0.0;
     while t < 10.0 - 1e-12 {

@@ -52,7 +52,7 @@ proptest! {
     fn dmv_family_conserves_all_three_invariants((body, m, q) in scene(), frac in 0.01f64..0.9) {
         let h = step_for(&body, &m, frac);
         for order in [2u8, 6] {
-            let mut a = PreMv::new(body, h, order);
+            let mut a = PreMv::new(body, h, order).unwrap();
             let mut s = State::new(m, q);
             let (c0, e0, p0) = invariants(&body, &s);
             for _ in 0..200 {
@@ -110,7 +110,7 @@ proptest! {
         let methods: Vec<Box<dyn Integrator<f64>>> = vec![
             Box::new(Mv::new(body, h)),
             Box::new(SeedMv::new(body, h)),
-            Box::new(PreMv::new(body, h, 4)),
+            Box::new(PreMv::new(body, h, 4).unwrap()),
             Box::new(Splitting::new(body, h)),
             Box::new(Splitting2::new(body, h)),
             Box::new(Midpoint::new(body, h)),
@@ -145,7 +145,7 @@ proptest! {
         let methods: Vec<Box<dyn Integrator<f64>>> = vec![
             Box::new(Mv::new(body, h)),
             Box::new(SeedMv::new(body, h)),
-            Box::new(PreMv::new(body, h, 8)),
+            Box::new(PreMv::new(body, h, 8).unwrap()),
             Box::new(Splitting::new(body, h)),
             Box::new(Splitting2::new(body, h)),
             Box::new(Midpoint::new(body, h)),

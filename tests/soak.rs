@@ -113,7 +113,11 @@ fn f32_attitude_does_not_drift_under_a_jittering_clock() {
         ),
         (
             "pre-mv4",
-            spacecraft_f32_drift_of(&[30_000, 300_000], |b, h| PreMv::new(b, h, 4), true),
+            spacecraft_f32_drift_of(
+                &[30_000, 300_000],
+                |b, h| PreMv::new(b, h, 4).unwrap(),
+                true,
+            ),
         ),
     ] {
         println!("{name}, f32 spacecraft, jittered h, drift at 3e4 and 3e5 steps: {d:?}");

@@ -179,14 +179,14 @@ pub fn make_forced<T: Real + 'static>(
     }
     match name {
         "mv" => forced(Mv::new(body, h), torque, rotor),
-        "pre-mv4" => forced(PreMv::new(body, h, 4), torque, rotor),
-        "pre-mv6" => forced(PreMv::new(body, h, 6), torque, rotor),
-        "pre-mv8" => forced(PreMv::new(body, h, 8), torque, rotor),
-        "pre-mv10" => forced(PreMv::new(body, h, 10), torque, rotor),
+        "pre-mv4" => forced(PreMv::new(body, h, 4).ok()?, torque, rotor),
+        "pre-mv6" => forced(PreMv::new(body, h, 6).ok()?, torque, rotor),
+        "pre-mv8" => forced(PreMv::new(body, h, 8).ok()?, torque, rotor),
+        "pre-mv10" => forced(PreMv::new(body, h, 10).ok()?, torque, rotor),
         "forced4" => composed(Mv::new(body, h), torque, rotor, 4),
         "forced6" => composed(Mv::new(body, h), torque, rotor, 6),
-        "forced4-pre4" => composed(PreMv::new(body, h, 4), torque, rotor, 4),
-        "forced6-pre6" => composed(PreMv::new(body, h, 6), torque, rotor, 6),
+        "forced4-pre4" => composed(PreMv::new(body, h, 4).ok()?, torque, rotor, 4),
+        "forced6-pre6" => composed(PreMv::new(body, h, 6).ok()?, torque, rotor, 6),
         "rk4" => {
             let mut r = ForcedRk4::new(body, h, torque);
             r.set_rotor(rotor).ok()?;

@@ -226,8 +226,20 @@ fn measure_precision<T: Real>(
         for regime in REGIMES {
             let ns = match method {
                 "mv" => time(Mv::new(body, h), s0, regime, &tables, steps),
-                "pre-mv4" => time(PreMv::new(body, h, 4), s0, regime, &tables, steps),
-                "pre-mv10" => time(PreMv::new(body, h, 10), s0, regime, &tables, steps),
+                "pre-mv4" => time(
+                    PreMv::new(body, h, 4).map_err(|e| e.to_string())?,
+                    s0,
+                    regime,
+                    &tables,
+                    steps,
+                ),
+                "pre-mv10" => time(
+                    PreMv::new(body, h, 10).map_err(|e| e.to_string())?,
+                    s0,
+                    regime,
+                    &tables,
+                    steps,
+                ),
                 _ => time(Splitting::new(body, h), s0, regime, &tables, steps),
             }
             .map_err(|e| format!("{method} {precision} {regime}: {e}"))?;

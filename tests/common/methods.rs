@@ -36,12 +36,12 @@ pub fn make_library<T: Real + 'static>(
 ) -> Option<Box<dyn Integrator<T>>> {
     Some(match name {
         "mv" => Box::new(Mv::new(body, h)),
-        "pre-mv4" => Box::new(PreMv::new(body, h, 4)),
-        "pre-mv6" => Box::new(PreMv::new(body, h, 6)),
-        "pre-mv8" => Box::new(PreMv::new(body, h, 8)),
-        "pre-mv10" => Box::new(PreMv::new(body, h, 10)),
-        "retimed-mv" => Box::new(RetimedMv::new(body, h, 2)),
-        "retimed-pre-mv10" => Box::new(RetimedMv::new(body, h, 10)),
+        "pre-mv4" => Box::new(PreMv::new(body, h, 4).ok()?),
+        "pre-mv6" => Box::new(PreMv::new(body, h, 6).ok()?),
+        "pre-mv8" => Box::new(PreMv::new(body, h, 8).ok()?),
+        "pre-mv10" => Box::new(PreMv::new(body, h, 10).ok()?),
+        "retimed-mv" => Box::new(RetimedMv::new(body, h, 2).ok()?),
+        "retimed-pre-mv10" => Box::new(RetimedMv::new(body, h, 10).ok()?),
         "seed-mv" => Box::new(SeedMv::new(body, h)),
         "splitting" => Box::new(Splitting::new(body, h)),
         "splitting2" => Box::new(Splitting2::new(body, h)),

@@ -612,7 +612,9 @@ mod firmware {
         ];
         let m0 = rotate(conj(frame64), m_body);
         let q0 = frame64; // principal frame to space = (body to space) (x) frame = frame
-        let mut truth = PreMv::new(body64, H, 10);
+        let Ok(mut truth) = PreMv::new(body64, H, 10) else {
+            return false;
+        };
         let mut ts = State::new(m0, q0);
 
         let mut board = SimBoard::new();
@@ -730,7 +732,10 @@ mod firmware {
             d[1],
             d[2]
         );
-        let (n, d, ok3) = bench(PreMv::new(body32, h, 4), body32, m32, overhead);
+        let Ok(pre4) = PreMv::new(body32, h, 4) else {
+            return false;
+        };
+        let (n, d, ok3) = bench(pre4, body32, m32, overhead);
         defmt::println!(
             "pre-mv4       {=u32}  {=f32}  {=f32}  {=f32}",
             n,
@@ -785,7 +790,10 @@ mod firmware {
             100 * r[2] / r[0].max(1),
             100 * r[3] / r[0].max(1)
         );
-        let r = regimes(PreMv::new(body32, h, 4), s32, h);
+        let Ok(pre4) = PreMv::new(body32, h, 4) else {
+            return false;
+        };
+        let r = regimes(pre4, s32, h);
         defmt::println!(
             "pre-mv4   {=u32}  {=u32}  {=u32}  {=u32}   ratios to fixed x100: {=u32} {=u32} {=u32}",
             r[0],
@@ -796,7 +804,10 @@ mod firmware {
             100 * r[2] / r[0].max(1),
             100 * r[3] / r[0].max(1)
         );
-        let r = regimes(PreMv::new(body32, h, 10), s32, h);
+        let Ok(pre10) = PreMv::new(body32, h, 10) else {
+            return false;
+        };
+        let r = regimes(pre10, s32, h);
         defmt::println!(
             "pre-mv10  {=u32}  {=u32}  {=u32}  {=u32}   ratios to fixed x100: {=u32} {=u32} {=u32}",
             r[0],

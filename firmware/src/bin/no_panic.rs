@@ -133,10 +133,14 @@ mod firmware {
             exercise(SeedMv::new(body, h), k + 1);
         }
         if wanted("pre") {
-            exercise(PreMv::new(body, h, 10), k + 2);
+            if let Ok(a) = PreMv::new(body, h, 10) {
+                exercise(a, k + 2);
+            }
         }
         if wanted("retimed") {
-            exercise(RetimedMv::new(body, h, 4), k + 3);
+            if let Ok(a) = RetimedMv::new(body, h, 4) {
+                exercise(a, k + 3);
+            }
         }
         if wanted("splitting") {
             exercise(Splitting::new(body, h), k + 4);
@@ -172,11 +176,13 @@ mod firmware {
             let mut f = Forced::new(Mv::new(body, h), torque);
             let _ = f.set_rotor(rotor);
             exercise(f, k + 10);
-            let mut f = Forced::new(PreMv::new(body, h, 6), torque);
-            let _ = f.set_rotor(rotor);
-            let mut s = State::new(i, [T::ONE, T::ZERO, T::ZERO, T::ZERO]);
-            let tau = [input(30), input(31), input(32)].map(T::from_f64);
-            output(4, f.step_state_with(&mut s, tau, tau).is_ok() as u8 as f64);
+            if let Ok(pre) = PreMv::new(body, h, 6) {
+                let mut f = Forced::new(pre, torque);
+                let _ = f.set_rotor(rotor);
+                let mut s = State::new(i, [T::ONE, T::ZERO, T::ZERO, T::ZERO]);
+                let tau = [input(30), input(31), input(32)].map(T::from_f64);
+                output(4, f.step_state_with(&mut s, tau, tau).is_ok() as u8 as f64);
+            }
             if let Ok(mut c) = Composed::new(Mv::new(body, h), torque, 6) {
                 let _ = c.set_rotor(rotor);
                 exercise(c, k + 11);

@@ -1,0 +1,174 @@
+//! The public quaternion and frame API (issue 13): `Quaternion` and `Frame`.
+
+mod common;
+
+use common::*;
+use rigid3::{Body, Frame, Integrator, Mv, Quaternion};
+
+fn random_unit(rng: &mut Rng) -> Quaternion<f64> {
+    Quaternion::new(
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    )
+    .normalize()
+    .unwrap()
+}
+
+fn matvec(r: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2])
+}
+
+fn matmul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+}
+
+fn qclose(a: Quaternion<f64>, b: Quaternion<f64>, tol: f64) -> bool {
+    let (a, b) = (a.to_array(), b.to_array());
+    let d: f64 = (0..4).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max);
+    let s: f64 = (0..4).map(|i| (a[i] + b[i]).abs()).fold(0.0, f64::max);
+    d.min(s) <= tol
+}
+
+#[test]
+fn quaternion_operations_agree_with_rotation_matrices() {
+    let mut rng = Rng::new(4);
+    for _ in 0..1000 {
+        let (p, q) = (random_unit(&mut rng), random_unit(&mut rng));
+        let v = rng.direction().map(|x| x * rng.range(0.1, 10.0));
+        let (rp, rq) = (p.to_rotation_matrix(), q.to_rotation_matrix());
+        // rotate is R(q) v, inverse_rotate R(q)^T v
+        assert!(dist(q.rotate(v), matvec(&rq, v)) <= 1e-14 * norm(v));
+        assert!(dist(q.inverse_rotate(q.rotate(v)), v) <= 1e-14 * norm(v));
+        assert!(dist(q.conjugate().rotate(v), q.inverse_rotate(v)) == 0.0);
+        // composition: R(p q) = R(p) R(q), and * is compose
+        let pq = (p * q).to_rotation_matrix();
+        let prod = matmul(&rp, &rq);
+        for i in 0..3 {
+            assert!(dist(pq[i], prod[i]) <= 1e-14);
+        }
+        assert_eq!(p * q, p.compose(q));
+        assert!(qclose(q * q.conjugate(), Quaternion::IDENTITY, 1e-15));
+        // matrix round trip, w >= 0
+        let back = Quaternion::from_rotation_matrix(rq).unwrap();
+        assert!(back.w >= 0.0);
+        assert!(qclose(back, q, 4e-16 * 8.0));
+        // [w, x, y, z] at the array boundary
+        assert_eq!(q.to_array(), [q.w, q.x, q.y, q.z]);
+        assert_eq!(Quaternion::from_array(q.to_array()), q);
+        assert_eq!(<[f64; 4]>::from(q), q.to_array());
+        assert_eq!(Quaternion::from(q.to_array()), q);
+    }
+}
+
+#[test]
+fn rotations_by_half_turns_and_small_angles() {
+    // Shepperd's branches: half turns about each axis (trace = -1) and near them
+    for axis in [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.6, 0.0, 0.8],
+    ] {
+        for angle in [
+            core::f64::consts::PI,
+            core::f64::consts::PI - 1e-5,
+            1e-9,
+            0.0,
+            -2.0,
+        ] {
+            let q = Quaternion::from_axis_angle(axis, angle);
+            let back = Quaternion::from_rotation_matrix(q.to_rotation_matrix()).unwrap();
+            assert!(qclose(back, q, 4e-16), "{axis:?} {angle}");
+            // from_rotation_vector is from_axis_angle of (axis, |v|)
+            let v = axis.map(|a| a * angle);
+            let r = Quaternion::from_rotation_vector(v);
+            assert!(qclose(r, q, 4e-16), "{axis:?} {angle}: {r:?} {q:?}");
+        }
+    }
+    // the rotation vector's first order: exp(v/2) = (1, v/2) + O(v^2)
+    let r = Quaternion::from_rotation_vector([2e-9, -4e-9, 6e-9]);
+    assert_eq!(r.to_array(), [1.0, 1e-9, -2e-9, 3e-9]);
+    assert_eq!(
+        Quaternion::<f64>::from_rotation_vector([0.0; 3]),
+        Quaternion::IDENTITY
+    );
+}
+
+#[test]
+fn quaternion_refusals() {
+    assert_eq!(Quaternion::new(0.0f64, 0.0, 0.0, 0.0).normalize(), None);
+    assert_eq!(Quaternion::new(f64::NAN, 1.0, 0.0, 0.0).normalize(), None);
+    assert_eq!(
+        Quaternion::new(f64::INFINITY, 1.0, 0.0, 0.0).normalize(),
+        None
+    );
+    let n = Quaternion::new(0.0f64, 3.0, 0.0, 4.0).normalize().unwrap();
+    assert!(qclose(n, Quaternion::new(0.0, 0.6, 0.0, 0.8), 2e-16));
+    let mut bad = Quaternion::<f64>::IDENTITY.to_rotation_matrix();
+    bad[1][2] = f64::NAN;
+    assert_eq!(Quaternion::from_rotation_matrix(bad), None);
+    assert_eq!(Quaternion::from_rotation_matrix([[0.0f64; 3]; 3]), None);
+    let reflection = [[1.0f64, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]];
+    assert_eq!(Quaternion::from_rotation_matrix(reflection), None);
+    let mut sheared = Quaternion::<f64>::IDENTITY.to_rotation_matrix();
+    sheared[0][1] = 0.1;
+    assert_eq!(Quaternion::from_rotation_matrix(sheared), None);
+    sheared[0][1] = 1e-6; // slightly off: a nearby unit rotation
+    let q = Quaternion::from_rotation_matrix(sheared).unwrap();
+    assert!((q.norm_squared() - 1.0).abs() < 1e-15);
+    // f32
+    let q = Quaternion::<f32>::from_axis_angle([0.0, 0.0, 1.0], 1.0);
+    let v = q.rotate([1.0, 0.0, 0.0]);
+    assert!((v[0] - 1f32.cos()).abs() < 1e-7 && (v[1] - 1f32.sin()).abs() < 1e-7);
+}
+
+#[test]
+fn frame_moves_vectors_attitudes_and_states_between_the_tensor_and_principal_frames() {
+    let mut rng = Rng::new(5);
+    for _ in 0..200 {
+        // a random tensor R diag(I) R^T in a random frame
+        let j = [
+            rng.range(0.1, 1.0),
+            rng.range(0.1, 1.0),
+            rng.range(0.1, 1.0),
+        ];
+        let i = [j[1] + j[2], j[0] + j[2], j[0] + j[1]];
+        let r = random_unit(&mut rng).to_rotation_matrix();
+        let tensor = [0, 1, 2]
+            .map(|a| [0, 1, 2].map(|b| (0..3).map(|k| r[a][k] * i[k] * r[b][k]).sum::<f64>()));
+        let (body, frame) = Frame::from_inertia_tensor(tensor).unwrap();
+        let (body2, f) = Body::from_inertia_tensor(tensor).unwrap();
+        assert_eq!(body, body2);
+        assert_eq!(frame.quaternion().to_array(), f);
+        // the tensor is diagonal in the principal frame: A v = R(f) diag(I) R(f)^T v
+        let v = rng.direction();
+        let av = matvec(&tensor, v);
+        let vp = frame.to_principal(v);
+        let ip = body.inertia();
+        let back = frame.from_principal([ip[0] * vp[0], ip[1] * vp[1], ip[2] * vp[2]]);
+        assert!(dist(av, back) <= 1e-13 * norm(av));
+        // states: the spatial momentum is the same in both frames, and the round trip holds
+        let q = random_unit(&mut rng).to_array();
+        let s = frame.state_to_principal(av, q);
+        let pi_tensor = Quaternion::from_array(q).rotate(av);
+        assert!(dist(s.spatial_momentum(), pi_tensor) <= 1e-14 * norm(av));
+        let (m2, q2) = frame.state_from_principal(&s);
+        assert!(dist(m2, av) <= 1e-14 * norm(av));
+        assert!(qclose(
+            Quaternion::from_array(q2),
+            Quaternion::from_array(q),
+            1e-15
+        ));
+        // a sensor vector fixed in the structure keeps its direction in space along a step:
+        // R(q_tensor) v_tensor = R(q_principal) v_principal
+        let mut mv = Mv::new(body, 0.01);
+        let mut x = s;
+        mv.step_state(&mut x).unwrap();
+        let (_, q_t) = frame.state_from_principal(&x);
+        let a = Quaternion::from_array(q_t).rotate(v);
+        let b = Quaternion::from_array(x.q).rotate(frame.to_principal(v));
+        assert!(dist(a, b) <= 1e-14);
+    }
+}
