@@ -145,9 +145,12 @@ fn check_tensor(d: [f64; 3], q: [f64; 4]) {
     sorted.sort_by(|x, y| x.partial_cmp(y).unwrap());
     let scale = sorted[2];
     let got = body.inertia();
+    // the test's tensor R D R^T is itself rounded (a few ulps of the scale per entry), and by
+    // Weyl's inequality its eigenvalues may sit that far from D: 16 eps (8 eps failed once
+    // in a proptest run at 1.6e-13 against 1.5e-13)
     for k in 0..3 {
         assert!(
-            (got[k] - sorted[k]).abs() <= 8.0 * f64::EPSILON * scale,
+            (got[k] - sorted[k]).abs() <= 16.0 * f64::EPSILON * scale,
             "{got:?} vs {sorted:?}"
         );
     }
