@@ -34,8 +34,8 @@ mod firmware {
     use embedded_hal::i2c::{I2c, Operation};
     use heapless::Vec as HVec;
     use rigid3::{
-        Body, ConstantTorque, Forced, Integrator, Mv, NoTorque, PreMv, Real, Rk4, SeedMv,
-        Splitting, State, StepError,
+        Body, ConstantTorque, Forced, Integrator, Mv, NoTorque, PreMv, Quaternion, Real, Rk4,
+        SeedMv, Splitting, State, StepError,
     };
 
     /// `f32` whose `sin` and `cos` are micromath's approximations (about 1e-3 absolute error,
@@ -154,43 +154,27 @@ mod firmware {
 
     // ---------------------------------------------------------------- small math
 
-    fn qmul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
-        [
-            a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-            a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-            a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-            a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
-        ]
+    // the quaternion algebra is the library's (rigid3::Quaternion, order [w, x, y, z]); these
+    // adapt it to the plain arrays the filter's equations are written in
+    fn qmul<T: Real>(a: [T; 4], b: [T; 4]) -> [T; 4] {
+        Quaternion::from_array(a)
+            .compose(Quaternion::from_array(b))
+            .to_array()
     }
     fn qmulf(a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
-        [
-            a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-            a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-            a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-            a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
-        ]
+        qmul(a, b)
     }
     fn conj<T: Real>(q: [T; 4]) -> [T; 4] {
-        [q[0], -q[1], -q[2], -q[3]]
+        Quaternion::from_array(q).conjugate().to_array()
     }
     /// `R(q) v`.
     fn rotate<T: Real>(q: [T; 4], v: [T; 3]) -> [T; 3] {
-        let two = T::ONE + T::ONE;
-        let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
-        let t = [
-            two * (y * v[2] - z * v[1]),
-            two * (z * v[0] - x * v[2]),
-            two * (x * v[1] - y * v[0]),
-        ];
-        [
-            v[0] + w * t[0] + (y * t[2] - z * t[1]),
-            v[1] + w * t[1] + (z * t[0] - x * t[2]),
-            v[2] + w * t[2] + (x * t[1] - y * t[0]),
-        ]
+        Quaternion::from_array(q).rotate(v)
     }
     fn normalized(q: [f32; 4]) -> [f32; 4] {
-        let n = Real::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-        [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+        Quaternion::from_array(q)
+            .normalize()
+            .map_or(q, Quaternion::to_array)
     }
     /// Rotation angle between two attitudes, rad.
     fn angle(a: [f32; 4], b: [f32; 4]) -> f32 {
