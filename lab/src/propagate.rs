@@ -136,6 +136,20 @@ pub fn propagate_forced<T: Real>(
     let mut report = propagate(method, integrator, &body, s0, 0, true);
     let e0 = total(0, &s0);
     let mut drift = 0.0f64;
+    // |m|^2, E and R(q) m change under a torque: their max relative change over the run (they
+    // are invariants only for a rotor without torque, where this is their drift)
+    let wide = |s: &State<T>| {
+        let st = State::new(s.m.map(Real::to_f64), s.q.map(Real::to_f64));
+        let b = Body::<f64>::from_inertia(inertia).ok();
+        (
+            b.map_or(f64::NAN, |b| b.casimir(&st.m)),
+            b.map_or(f64::NAN, |b| b.energy(&st.m)),
+            st.spatial_momentum(),
+        )
+    };
+    let (c0, en0, p0) = wide(&s0);
+    let p0n = (p0[0] * p0[0] + p0[1] * p0[1] + p0[2] * p0[2]).sqrt();
+    let (mut dc, mut de, mut dp) = (0.0f64, 0.0f64, 0.0f64);
     let mut s = s0;
     let mut taken = 0;
     let mut error = None;
@@ -148,6 +162,11 @@ pub fn propagate_forced<T: Real>(
         if let (Some(e), Some(e0)) = (total(k, &s), e0) {
             drift = drift.max(rel(e, e0));
         }
+        let (c, en, p) = wide(&s);
+        dc = dc.max(rel(c, c0));
+        de = de.max(rel(en, en0));
+        let d = ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
+        dp = dp.max(d / p0n.max(f64::MIN_POSITIVE));
     }
     let tail = propagate(method, integrator, &body, s, 0, true);
     report.steps = taken;
@@ -157,6 +176,9 @@ pub fn propagate_forced<T: Real>(
     report.energy = tail.energy;
     report.casimir = tail.casimir;
     report.spatial_momentum = tail.spatial_momentum;
+    report.casimir_drift = dc;
+    report.energy_drift = de;
+    report.spatial_momentum_drift = Some(dp);
     report.error = error;
     report.total_energy = total(taken, &s);
     report.total_energy_drift = e0.map(|_| drift);
