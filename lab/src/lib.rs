@@ -11,6 +11,7 @@ pub mod demo;
 pub mod figures;
 pub mod flops;
 pub mod forced_methods;
+pub mod forced_refs;
 pub mod forced_work;
 pub mod general;
 pub mod hv_dmv;
