@@ -31,7 +31,7 @@ Inputs given as decimals are converted exactly (fractions.Fraction) and then rou
 at the working precision; q0 is normalised at the working precision. The talk's body is
 I_i = J_j + J_k with J = (0.9218, 0.7382, 0.1763), done exactly.
 
-Usage:  python3 make_forced_refs.py      (needs mpmath; about 10 min on 2 cores without gmpy2)
+Usage:  python3 make_forced_refs.py      (needs mpmath; 5.5 min on 2 cores without gmpy2)
 """
 import json, time
 from fractions import Fraction as Fr
@@ -201,9 +201,7 @@ def run_gl(sc, times, s, h, tol):
                 raise RuntimeError("stage iteration does not converge")
             iters += it + 1
             y = [y[k] + h * mp.fdot(b, [Kj[k] for Kj in K]) for k in range(7)]
-            n += 1
-            # the next step's start: the stage derivatives extrapolated from this step's
-            # collocation polynomial would be better; the current ones are good enough
+            n += 1  # the next step's stage iteration starts from this step's stage derivatives
         out.append(y)
     return out, iters
 
