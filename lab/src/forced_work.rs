@@ -213,3 +213,26 @@ pub fn print_table(scene: &ForcedScene) -> bool {
     }
     wins
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn charted_scenes_come_from_the_references_and_mv_converges_to_them() {
+        let scenes = charted_scenes();
+        let names: Vec<&str> = scenes.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, CHARTED_FORCED_SCENES);
+        assert!(ForcedScene::from_reference("heavy_top", 3.0).is_none());
+        assert!(ForcedScene::from_reference("nope", 10.0).is_none());
+        for s in &scenes {
+            assert_eq!(s.t_end, 10.0);
+            // order 2: 4x less error for twice the steps (counted run, as the tables do it)
+            let a = run("mv", s, 200).unwrap();
+            let b = run("mv", s, 400).unwrap();
+            let ratio = a.error / b.error;
+            assert!((3.6..4.4).contains(&ratio), "{}: {a:?} {b:?}", s.name);
+            assert!(b.ops > a.ops);
+        }
+    }
+}
