@@ -173,7 +173,12 @@ mod tests {
             assert!(s.at(1.0).is_some() && s.at(10.0).is_some(), "{}", s.name);
             assert_eq!(s.m.len(), s.t.len());
             assert_eq!(s.q.len(), s.t.len());
-            let finite = s.inertia.iter().chain(&s.m0).chain(&s.q0).all(|x| x.is_finite());
+            let finite = s
+                .inertia
+                .iter()
+                .chain(&s.m0)
+                .chain(&s.q0)
+                .all(|x| x.is_finite());
             assert!(finite, "{}", s.name);
             for q in &s.q {
                 let n: f64 = q.iter().map(|x| x * x).sum();
@@ -182,7 +187,10 @@ mod tests {
         }
         let top = scene("heavy_top").unwrap();
         assert_eq!(top.spec.gravity, Some((1.0, [0.2, -0.1, 0.5])));
-        assert_eq!(scene("satellite").unwrap().spec.rotor, Some([0.0, 0.3, 0.0]));
+        assert_eq!(
+            scene("satellite").unwrap().spec.rotor,
+            Some([0.0, 0.3, 0.0])
+        );
         assert_eq!(
             scene("body_torque").unwrap().spec.body_torque,
             Some(([0.1, -0.05, 0.08], [1.3, 0.7, 2.1], [0.0, 0.5, 1.0]))
@@ -200,7 +208,10 @@ mod tests {
             let p0 = rigid3::State::new(s.m0, s.q0).spatial_momentum();
             for (i, (&m, &q)) in s.m.iter().zip(&s.q).enumerate() {
                 let e = s.spec.total_energy(s.inertia, s.t[i], m, q).unwrap();
-                assert!((e - e0).abs() <= 1e-14 * e0.abs().max(1.0), "{name}: {e} {e0}");
+                assert!(
+                    (e - e0).abs() <= 1e-14 * e0.abs().max(1.0),
+                    "{name}: {e} {e0}"
+                );
                 let p = rigid3::State::new(m, q).spatial_momentum();
                 assert!((p[2] - p0[2]).abs() <= 1e-14, "{name}: {p:?} {p0:?}");
                 if name == "gyrostat" {
@@ -227,7 +238,10 @@ mod tests {
             let j0 = jacobi(0.0, s.m0, s.q0);
             for (i, (&m, &q)) in s.m.iter().zip(&s.q).enumerate() {
                 let j = jacobi(s.t[i], m, q);
-                assert!((j - j0).abs() <= 1e-14 * j0.abs().max(1.0), "{name}: {j} {j0}");
+                assert!(
+                    (j - j0).abs() <= 1e-14 * j0.abs().max(1.0),
+                    "{name}: {j} {j0}"
+                );
             }
         }
     }
@@ -249,7 +263,10 @@ mod tests {
             let r = s.m[i];
             let dm = (0..3).map(|k| (st.m[k] - r[k]).abs()).fold(0.0, f64::max);
             let dq = qdist(st.q, s.q[i]);
-            println!("{}: forced6 h = 1/256 at t = 10: |dm| {dm:.1e}, |dq| {dq:.1e}", s.name);
+            println!(
+                "{}: forced6 h = 1/256 at t = 10: |dm| {dm:.1e}, |dq| {dq:.1e}",
+                s.name
+            );
             assert!(dm.max(dq) <= 1e-11, "{}: {dm:e} {dq:e}", s.name);
         }
     }

@@ -80,5 +80,8 @@ fn measured_orders_against_the_mpmath_references() {
             }
         }
     }
-    assert!(bad.is_empty(), "orders off nominal or errors too small: {bad:#?}");
+    assert!(
+        bad.is_empty(),
+        "orders off nominal or errors too small: {bad:#?}"
+    );
 }

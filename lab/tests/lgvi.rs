@@ -111,7 +111,10 @@ fn a_step_newton_cannot_take_is_an_error_and_leaves_the_state() {
         let mut s = s0;
         let e = lgvi.step(&mut s).unwrap_err();
         println!("{c:?}: h = 50: {e}");
-        assert!(matches!(e, LgviError::NoConvergence { .. } | LgviError::Singular), "{e:?}");
+        assert!(
+            matches!(e, LgviError::NoConvergence { .. } | LgviError::Singular),
+            "{e:?}"
+        );
         assert_eq!(s, s0);
         let mut bad = State::new([f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]);
         assert_eq!(lgvi.step(&mut bad), Err(LgviError::NonFinite));
