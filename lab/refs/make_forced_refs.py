@@ -25,7 +25,10 @@ Stored values are those of run B2, written with 34 significant digits.
 The script asserts: A vs B2 agree to >= 25 digits and B1 vs B2 to >= 28 digits (max abs
 difference of m / max(1, |m0|) and of q, over all stored times), per scene; it also reports
 the conserved quantities where the scene has them (heavy top: e_z . R(q) m and the total
-energy; gyrostat: |m|^2, R(q) m and the energy 1/2 (m - h_r) . I^-1 (m - h_r); |q| = 1).
+energy; gyrostat: |m|^2, R(q) m and the energy 1/2 (m - h_r) . I^-1 (m - h_r); gravity
+gradient, whose potential turns about e_z at the orbit rate N: the Jacobi integral
+1/2 (m - h_r) . I^-1 (m - h_r) + V(t, q) - N e_z . R(q) m; |q| = 1). These certify that each
+torque is the one of its potential, with the sign and frame of src/torque.rs's docs.
 
 Inputs given as decimals are converted exactly (fractions.Fraction) and then rounded once
 at the working precision; q0 is normalised at the working precision. The talk's body is
@@ -260,6 +263,10 @@ def main():
             track("|m|^2", lambda t, m, q: mpmath.fsum(v * v for v in m))
             for k in range(3):
                 track(f"(R(q)m)_{k}", lambda t, m, q, k=k: rotate(q, m)[k])
+        if sc.gg and not sc.periodic and not sc.gravity:
+            # the potential turns about e_z at rate N: the Jacobi integral H - N e_z . R(q) m
+            track("jacobi", lambda t, m, q: mpmath.fsum((m[i] - sc.rotor[i]) ** 2 / sc.I[i] for i in range(3)) / 2
+                  + sc.potential(t, q) - sc.gg[1] * rotate(q, m)[2])
         if not sc.periodic and not sc.gg:
             track("energy", lambda t, m, q: mpmath.fsum((m[i] - sc.rotor[i]) ** 2 / sc.I[i] for i in range(3)) / 2
                   + sc.potential(t, q))
