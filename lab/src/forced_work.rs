@@ -30,6 +30,36 @@ pub struct ForcedScene {
     pub q_ref: [f64; 4],
 }
 
+/// The forced scenes of the work-precision chart (figure 9) and tables.
+pub const CHARTED_FORCED_SCENES: [&str; 3] = ["heavy_top", "satellite", "gyrostat"];
+
+impl ForcedScene {
+    /// The reference scene `name` of `lab/refs/forced_refs.json` with its reference state at
+    /// `t_end` (one of the stored times: 1, 2, 5, 10); `None` for an unknown name or time.
+    pub fn from_reference(name: &str, t_end: f64) -> Option<Self> {
+        let r = crate::forced_refs::scene(name)?;
+        let i = r.at(t_end)?;
+        Some(Self {
+            name: r.name.clone(),
+            inertia: r.inertia,
+            m0: r.m0,
+            q0: r.q0,
+            spec: r.spec,
+            t_end,
+            m_ref: r.m[i],
+            q_ref: r.q[i],
+        })
+    }
+}
+
+/// The charted forced scenes ([`CHARTED_FORCED_SCENES`]) at `T = 10`.
+pub fn charted_scenes() -> Vec<ForcedScene> {
+    CHARTED_FORCED_SCENES
+        .iter()
+        .filter_map(|n| ForcedScene::from_reference(n, 10.0))
+        .collect()
+}
+
 /// The forced methods of rigid3 competing for "best".
 pub const RIGID3_FORCED: [&str; 8] = [
     "mv",
@@ -181,4 +211,27 @@ pub fn print_table(scene: &ForcedScene) -> bool {
         wins &= beats(0) && beats(1);
     }
     wins
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn charted_scenes_come_from_the_references_and_mv_converges_to_them() {
+        let scenes = charted_scenes();
+        let names: Vec<&str> = scenes.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, CHARTED_FORCED_SCENES);
+        assert!(ForcedScene::from_reference("heavy_top", 3.0).is_none());
+        assert!(ForcedScene::from_reference("nope", 10.0).is_none());
+        for s in &scenes {
+            assert_eq!(s.t_end, 10.0);
+            // order 2: 4x less error for twice the steps (counted run, as the tables do it)
+            let a = run("mv", s, 200).unwrap();
+            let b = run("mv", s, 400).unwrap();
+            let ratio = a.error / b.error;
+            assert!((3.6..4.4).contains(&ratio), "{}: {a:?} {b:?}", s.name);
+            assert!(b.ops > a.ops);
+        }
+    }
 }

@@ -2,7 +2,7 @@
 //! integrator of Lee, Leok and McClamroch (`rigid3_lab::lgvi`): the same map, to round-off.
 
 use rigid3::{Body, Forced, Gravity, GravityGradient, Integrator, Mv, NoTorque, State, Torque};
-use rigid3_lab::lgvi::Lgvi;
+use rigid3_lab::lgvi::{Coordinates, Lgvi, LgviError};
 use rigid3_lab::rng::Rng;
 
 fn unit_q(r: &mut Rng) -> [f64; 4] {
@@ -20,6 +20,7 @@ fn worst<F: Torque<f64> + Clone>(
     hs: &[f64],
     states: usize,
     seed: u64,
+    coordinates: Coordinates,
 ) -> f64 {
     let mut r = Rng::new(seed);
     let mut worst = 0.0f64;
@@ -30,7 +31,7 @@ fn worst<F: Torque<f64> + Clone>(
             let mut a = State::new(m, q);
             let mut b = a;
             let mut kdk = Forced::new(Mv::new(body, h), torque.clone());
-            let mut lgvi = Lgvi::new(&body, h, torque.clone());
+            let mut lgvi = Lgvi::with_coordinates(&body, h, torque.clone(), coordinates);
             // a few steps each, so the reuse of the end torque is exercised too
             for _ in 0..3 {
                 kdk.step_state(&mut a).unwrap();
@@ -56,9 +57,11 @@ fn kick_drift_kick_mv_is_the_lgvi_on_the_heavy_top() {
         mg: 1.0,
         com: [0.2, -0.1, 0.5],
     };
-    let w = worst(body, g, &HS, 200, 1);
-    println!("heavy top: max difference per step Forced<Mv> vs LGVI {w:.2e}");
-    assert!(w <= 1e-13, "{w:e}");
+    for c in [Coordinates::Cayley, Coordinates::Exponential] {
+        let w = worst(body, g, &HS, 200, 1, c);
+        println!("heavy top: max difference per step Forced<Mv> vs LGVI ({c:?}) {w:.2e}");
+        assert!(w <= 1e-13, "{w:e}");
+    }
 }
 
 #[test]
@@ -69,24 +72,51 @@ fn kick_drift_kick_mv_is_the_lgvi_in_a_gravity_gradient() {
         n: 1.0,
         inertia: body.inertia(),
     };
-    let w = worst(body, gg, &HS, 200, 2);
-    println!("gravity gradient: max difference per step Forced<Mv> vs LGVI {w:.2e}");
-    assert!(w <= 1e-13, "{w:e}");
+    for c in [Coordinates::Cayley, Coordinates::Exponential] {
+        let w = worst(body, gg, &HS, 200, 2, c);
+        println!("gravity gradient: max difference per step Forced<Mv> vs LGVI ({c:?}) {w:.2e}");
+        assert!(w <= 1e-13, "{w:e}");
+    }
 }
 
 #[test]
 fn free_lgvi_is_mv() {
     let body = Body::from_inertia([0.9145, 1.0981, 1.66]).unwrap();
-    let w = worst(body, NoTorque, &HS, 200, 3);
-    println!("free body: max difference per step Mv vs LGVI {w:.2e}");
-    assert!(w <= 1e-13, "{w:e}");
+    for c in [Coordinates::Cayley, Coordinates::Exponential] {
+        let w = worst(body, NoTorque, &HS, 200, 3, c);
+        println!("free body: max difference per step Mv vs LGVI ({c:?}) {w:.2e}");
+        assert!(w <= 1e-13, "{w:e}");
+    }
 }
 
 #[test]
 fn newton_converges_in_few_iterations() {
     let body = Body::from_inertia([1.0, 1.5, 2.0]).unwrap();
-    let mut lgvi = Lgvi::new(&body, 0.1, NoTorque);
-    let mut s = State::new([0.3, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
-    lgvi.step(&mut s).unwrap();
-    assert!(lgvi.iterations <= 6, "{}", lgvi.iterations);
+    for c in [Coordinates::Cayley, Coordinates::Exponential] {
+        let mut lgvi = Lgvi::with_coordinates(&body, 0.1, NoTorque, c);
+        let mut s = State::new([0.3, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
+        lgvi.step(&mut s).unwrap();
+        assert!(lgvi.iterations <= 6, "{c:?}: {}", lgvi.iterations);
+    }
+}
+
+#[test]
+fn a_step_newton_cannot_take_is_an_error_and_leaves_the_state() {
+    // far past the existence limit of the step (docs/MATH.md §3): no rotation solves the
+    // equation, and Newton must say so instead of returning an iterate
+    let body = Body::from_inertia([0.9145, 1.0981, 1.66]).unwrap();
+    for c in [Coordinates::Cayley, Coordinates::Exponential] {
+        let mut lgvi = Lgvi::with_coordinates(&body, 50.0, NoTorque, c);
+        let s0 = State::new([0.4165, 0.9072, 0.0588], [1.0, 0.0, 0.0, 0.0]);
+        let mut s = s0;
+        let e = lgvi.step(&mut s).unwrap_err();
+        println!("{c:?}: h = 50: {e}");
+        assert!(
+            matches!(e, LgviError::NoConvergence { .. } | LgviError::Singular),
+            "{e:?}"
+        );
+        assert_eq!(s, s0);
+        let mut bad = State::new([f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(lgvi.step(&mut bad), Err(LgviError::NonFinite));
+    }
 }
