@@ -295,14 +295,14 @@ fn main() -> ExitCode {
         Command::ForcedWork { scene } => {
             let names: Vec<String> = match scene {
                 Some(s) => vec![s],
-                None => rigid3_lab::forced_refs::CHARTED
+                None => rigid3_lab::forced_work::CHARTED_FORCED_SCENES
                     .iter()
                     .map(|s| s.to_string())
                     .collect(),
             };
             let mut all = true;
             for name in names {
-                let Some(sc) = rigid3_lab::forced_refs::scene(&name, 10.0) else {
+                let Some(sc) = rigid3_lab::forced_work::ForcedScene::from_reference(&name, 10.0) else {
                     eprintln!("unknown forced scene {name}");
                     return ExitCode::FAILURE;
                 };

@@ -151,7 +151,7 @@ pub fn all(out: &Path) -> Result<(Vec<PathBuf>, Measured), String> {
     step("figure 8", t);
 
     let t = Instant::now();
-    let scenes = crate::forced_refs::charted();
+    let scenes = crate::forced_work::charted_scenes();
     let host = forced::host_times(&scenes);
     files.extend(forced::figure(out, &scenes, &host)?);
     step("figure 9", t);
