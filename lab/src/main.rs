@@ -302,7 +302,8 @@ fn main() -> ExitCode {
             };
             let mut all = true;
             for name in names {
-                let Some(sc) = rigid3_lab::forced_work::ForcedScene::from_reference(&name, 10.0) else {
+                let Some(sc) = rigid3_lab::forced_work::ForcedScene::from_reference(&name, 10.0)
+                else {
                     eprintln!("unknown forced scene {name}");
                     return ExitCode::FAILURE;
                 };
