@@ -20,6 +20,7 @@ pub fn target(orbit: (f32, f32)) -> [f32; 4] {
 
 /// One controller tick: from the estimated state, the new wheel momenta (principal frame).
 /// Returns `(wheels, commanded body torque)`.
+#[inline(never)]
 pub fn control(
     q: [f32; 4],
     m: [f32; 3],

@@ -62,6 +62,7 @@ pub fn propagator(body: Body<f32>, h: f32, gg: Gg) -> Propagator {
 
 /// One tick of the propagator: the measured period, the wheels' momentum (known from their
 /// tachometers), the orbit angle's `(cos, sin)` now; the model's time restarts at 0 each tick.
+#[inline(never)]
 pub fn tick(
     f: &mut Propagator,
     s: &mut State<f32>,
@@ -106,6 +107,7 @@ impl Complementary {
         self.s.m = [0, 1, 2].map(|k| self.inertia[k] * wp[k] + wheels[k]);
     }
 
+    #[inline(never)]
     pub fn propagate(
         &mut self,
         gyro_sensor: [f32; 3],
@@ -122,6 +124,7 @@ impl Complementary {
         tick(&mut self.f, &mut self.s, dt, wheels, orbit)
     }
 
+    #[inline(never)]
     pub fn correct(&mut self, star_sensor: [f32; 4], interval: f32) {
         let meas = qmul(star_sensor, self.frame);
         let theta = error_vector(self.s.q, meas);
@@ -155,6 +158,7 @@ const Q_ATT: f32 = 1e-6;
 /// A legitimate EKF choice (error `O(h^2 |A|^2)`, 1e-9 here per tick). The library's exact
 /// tangent map of the free DMV step, `Mv::step_with_jacobian` (same coordinates), would be
 /// composed here with the kicks' and the rotor turns' Jacobians to replace it.
+#[inline(never)]
 pub fn transition(s: &State<f32>, inertia: [f32; 3], hw: [f32; 3], gg: &Gg, h: f32) -> M6 {
     let m = s.m;
     let inv = inertia.map(|x| 1.0 / x);
@@ -235,6 +239,7 @@ impl Ekf {
 
     /// Predict over the measured period `dt`: state by the forced `Mv` step, covariance by
     /// `P <- F P F^T + Q dt`.
+    #[inline(never)]
     pub fn predict(
         &mut self,
         dt: f32,
@@ -276,6 +281,7 @@ impl Ekf {
     /// Update with a star-tracker fix (sensor-frame attitude): measurement `dtheta` with noise
     /// `sigma^2 I`, `H = [0 I]`; Joseph-form covariance update; the attitude reset
     /// `q <- q (x) exp(dtheta / 2)`.
+    #[inline(never)]
     pub fn fix(&mut self, star_sensor: [f32; 4]) -> bool {
         let z = error_vector(self.s.q, qmul(star_sensor, self.frame));
         let r = self.sigma * self.sigma;

@@ -90,6 +90,7 @@ impl<B: I2c> Sensors<B> {
         self.f32s(0x00)
     }
     /// A new star tracker fix, if there is one.
+    #[inline(never)]
     pub fn star(&mut self) -> Result<Option<[f32; 4]>, B::Error> {
         let mut status = [0u8];
         self.bus.write_read(BOARD_ADDR, &[0x20], &mut status)?;
