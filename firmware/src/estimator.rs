@@ -144,48 +144,160 @@ pub type M6 = [[f32; 6]; 6];
 const Q_TORQUE: f32 = 1e-5;
 const Q_ATT: f32 = 1e-6;
 
-/// The step's Jacobian `F = d(m', dtheta') / d(m, dtheta)` (6x6, row-major, momentum first, then
-/// the body-frame attitude error of `q = q^ (x) exp(dtheta / 2)`: `rigid3::tangent`'s
-/// coordinates) at the state `s` before a step of length `h`, wheels `hw`, gravity gradient `gg`.
-///
-/// THE ONE PLACE the covariance gets its transition: here the first-order linearisation of the
-/// continuous forced dynamics, `F = I + h A`, with
-///
-/// `A = [[hat(m) I^-1 - hat(W), G], [I^-1, -hat(W)]]`, `W = I^-1 (m - hw)`,
-/// `G = dtau/dtheta = 3K (hat(r) I - hat(I r)) hat(r)` (right perturbation moves
-/// `r = R^T n` by `hat(r) dtheta`).
-///
-/// A legitimate EKF choice (error `O(h^2 |A|^2)`, 1e-9 here per tick). The library's exact
-/// tangent map of the free DMV step, `Mv::step_with_jacobian` (same coordinates), would be
-/// composed here with the kicks' and the rotor turns' Jacobians to replace it.
-#[inline(never)]
-pub fn transition(s: &State<f32>, inertia: [f32; 3], hw: [f32; 3], gg: &Gg, h: f32) -> M6 {
-    let m = s.m;
-    let inv = inertia.map(|x| 1.0 / x);
-    let w = [0, 1, 2].map(|k| (m[k] - hw[k]) * inv[k]);
-    let r = gg.nadir(0.0, &s.q);
-    let ir = [0, 1, 2].map(|k| r[k] * inertia[k]);
-    let hat = |v: [f32; 3]| [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
-    let (hm, hw_, hr, hir) = (hat(m), hat(w), hat(r), hat(ir));
-    let mut f = [[0.0f32; 6]; 6];
+/// Which tangent map the EKF's covariance propagation uses (see [`transition`]).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Jacobian {
+    /// `F = I + h A`: the first-order linearisation of the continuous forced dynamics.
+    Linearised,
+    /// The exact Jacobian of the forced step as the library takes it (kick, rotor turn, DMV
+    /// drift, turn, kick): `K1 T D T K0`, with `D` from rigid3's `Mv::step_with_jacobian`
+    /// (taken by a scratch `Mv` on the kicked and turned state) and the kicks' and turns'
+    /// Jacobians in closed form.
+    Dmv,
+}
+
+/// The EKF's choice (the one switch).
+pub const JACOBIAN: Jacobian = Jacobian::Dmv;
+
+/// `dtau/dtheta = 3K (hat(r) I - hat(I r)) hat(r)` at the nadir `r` (body frame): a right
+/// perturbation `q (x) exp(dtheta / 2)` moves `r = R^T n` by `hat(r) dtheta`.
+fn torque_gradient(r: [f32; 3], inertia: [f32; 3], k: f32) -> [[f32; 3]; 3] {
+    let ir = [0, 1, 2].map(|i| r[i] * inertia[i]);
+    let (hr, hir) = (hat(r), hat(ir));
+    let mut g = [[0.0f32; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            // momentum block: hat(m) I^-1 - hat(W)
-            f[i][j] = h * (hm[i][j] * inv[j] - hw_[i][j]);
-            // G = 3K (hat(r) I - hat(Ir)) hat(r)
-            let mut g = 0.0;
-            for k in 0..3 {
-                g += (hr[i][k] * inertia[k] - hir[i][k]) * hr[k][j];
+            let mut a = 0.0;
+            for l in 0..3 {
+                a += (hr[i][l] * inertia[l] - hir[i][l]) * hr[l][j];
             }
-            f[i][3 + j] = h * 3.0 * gg.k * g;
-            f[3 + i][3 + j] = -h * hw_[i][j];
+            g[i][j] = 3.0 * k * a;
         }
-        f[3 + i][i] = h * inv[i];
     }
+    g
+}
+
+fn hat(v: [f32; 3]) -> [[f32; 3]; 3] {
+    [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]]
+}
+
+/// `R(p)` of a unit quaternion, row-major.
+fn rotation(p: [f32; 4]) -> [[f32; 3]; 3] {
+    let c = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|e| rotate(p, e));
+    // c[j] is column j
+    [0, 1, 2].map(|i| [c[0][i], c[1][i], c[2][i]])
+}
+
+fn mul6(a: &M6, b: &M6) -> M6 {
+    let mut c = [[0.0f32; 6]; 6];
     for i in 0..6 {
-        f[i][i] += 1.0;
+        for j in 0..6 {
+            let mut s = 0.0;
+            for k in 0..6 {
+                s += a[i][k] * b[k][j];
+            }
+            c[i][j] = s;
+        }
     }
-    f
+    c
+}
+
+/// The step's Jacobian `F = d(m', dtheta') / d(m, dtheta)` (6x6, row-major, momentum first,
+/// then the body-frame attitude error of `q = q^ (x) exp(dtheta / 2)`: `rigid3::tangent`'s
+/// coordinates) at the state `s` before a step of length `h`, wheels `hw`, gravity gradient `gg`
+/// (its orbit angle that of the tick's start).
+///
+/// THE ONE PLACE the covariance gets its transition; [`JACOBIAN`] picks the map:
+/// - [`Jacobian::Dmv`]: the forced step's exact tangent map, `K1 T D T K0`, where
+///   `K = [[I, h/2 G], [0, I]]` is a kick (`G = dtau/dtheta`), `T = diag(P^T, P^T)` the rotor's
+///   half-step turn `p` (`m <- R(p)^T m`, `q <- q (x) p`), and `D` the DMV drift's Jacobian from
+///   rigid3's `Mv::step_with_jacobian` (`scratch` takes that step; the state itself is stepped
+///   by the library's `Forced`);
+/// - [`Jacobian::Linearised`]: `F = I + h A`, the first-order linearisation of the continuous
+///   forced dynamics, `A = [[hat(m) I^-1 - hat(W), G], [I^-1, -hat(W)]]`,
+///   `W = I^-1 (m - hw)` (error `O(h^2 |A|^2)`, about 1e-9 per tick here).
+#[inline(never)]
+pub fn transition(
+    scratch: &mut Mv<f32>,
+    s: &State<f32>,
+    inertia: [f32; 3],
+    hw: [f32; 3],
+    gg: &Gg,
+    h: f32,
+) -> Result<M6, StepError> {
+    transition_as(JACOBIAN, scratch, s, inertia, hw, gg, h)
+}
+
+/// [`transition`] with the map chosen by the caller (the firmware compares the two).
+#[allow(clippy::too_many_arguments)]
+pub fn transition_as(
+    kind: Jacobian,
+    scratch: &mut Mv<f32>,
+    s: &State<f32>,
+    inertia: [f32; 3],
+    hw: [f32; 3],
+    gg: &Gg,
+    h: f32,
+) -> Result<M6, StepError> {
+    let inv = inertia.map(|x| 1.0 / x);
+    let g0 = torque_gradient(gg.nadir(0.0, &s.q), inertia, gg.k);
+    if kind == Jacobian::Linearised {
+        let m = s.m;
+        let w = [0, 1, 2].map(|k| (m[k] - hw[k]) * inv[k]);
+        let (hm, hw_) = (hat(m), hat(w));
+        let mut f = [[0.0f32; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                f[i][j] = h * (hm[i][j] * inv[j] - hw_[i][j]);
+                f[i][3 + j] = h * g0[i][j];
+                f[3 + i][3 + j] = -h * hw_[i][j];
+            }
+            f[3 + i][i] = h * inv[i];
+        }
+        for i in 0..6 {
+            f[i][i] += 1.0;
+        }
+        return Ok(f);
+    }
+    let half = 0.5 * h;
+    // the first kick
+    let tau0 = gg.torque(0.0, &s.q);
+    let m1 = [0, 1, 2].map(|i| s.m[i] + half * tau0[i]);
+    // the rotor's half-step turn, in the library's rational form: u = -(h/8) I^-1 hw
+    let u = [0, 1, 2].map(|i| -h * 0.125 * hw[i] * inv[i]);
+    let n = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    let d = 1.0 / (1.0 + n);
+    let p = [
+        (1.0 - n) * d,
+        2.0 * u[0] * d,
+        2.0 * u[1] * d,
+        2.0 * u[2] * d,
+    ];
+    let pm = rotation(p);
+    let pt = |v: [f32; 3]| [0, 1, 2].map(|i| pm[0][i] * v[0] + pm[1][i] * v[1] + pm[2][i] * v[2]);
+    let mut x = State::new(pt(m1), qmul(s.q, p));
+    scratch.set_step_size(h);
+    scratch.reset();
+    let dmv = scratch.step_with_jacobian(&mut x)?;
+    let q4 = qmul(x.q, p);
+    let g1 = torque_gradient(gg.nadir(h, &q4), inertia, gg.k);
+    let mut k0 = [[0.0f32; 6]; 6];
+    let mut k1 = [[0.0f32; 6]; 6];
+    let mut t = [[0.0f32; 6]; 6];
+    for i in 0..6 {
+        k0[i][i] = 1.0;
+        k1[i][i] = 1.0;
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            k0[i][3 + j] = half * g0[i][j];
+            k1[i][3 + j] = half * g1[i][j];
+            t[i][j] = pm[j][i];
+            t[3 + i][3 + j] = pm[j][i];
+        }
+    }
+    let a = mul6(&dmv, &mul6(&t, &k0));
+    Ok(mul6(&k1, &mul6(&t, &a)))
 }
 
 fn inverse3(a: [[f32; 3]; 3]) -> Option<[[f32; 3]; 3]> {
@@ -217,6 +329,8 @@ fn inverse3(a: [[f32; 3]; 3]) -> Option<[[f32; 3]; 3]> {
 /// The multiplicative EKF of the gyro-less mode.
 pub struct Ekf {
     pub f: Propagator,
+    /// The scratch DMV step of [`transition`] (`Jacobian::Dmv`).
+    pub scratch: Mv<f32>,
     pub s: State<f32>,
     pub p: M6,
     pub inertia: [f32; 3],
@@ -249,7 +363,7 @@ impl Ekf {
         let mut gg = *self.f.torque();
         gg.cos0 = orbit.0;
         gg.sin0 = orbit.1;
-        let f = transition(&self.s, self.inertia, wheels, &gg, dt);
+        let f = transition(&mut self.scratch, &self.s, self.inertia, wheels, &gg, dt)?;
         tick(&mut self.f, &mut self.s, dt, wheels, orbit)?;
         let mut fp = [[0.0f32; 6]; 6];
         for i in 0..6 {

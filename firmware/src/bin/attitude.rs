@@ -51,7 +51,7 @@ mod sensors;
 #[cfg(target_os = "none")]
 mod firmware {
     use crate::bench::{self, Fourth};
-    use crate::estimator::{propagator, Complementary, Ekf, Gg};
+    use crate::estimator::{self, propagator, Complementary, Ekf, Gg, Jacobian};
     use crate::math::{
         angle, conj, error_vector, normalized, qmul, rotate, small_rotation, to_f32, Noise,
     };
@@ -208,6 +208,7 @@ mod firmware {
         };
         let mut ekf = Ekf {
             f: propagator(body32, h, gg),
+            scratch: Mv::new(body32, h),
             s: s0,
             p: [[0.0; 6]; 6],
             inertia,
@@ -334,6 +335,52 @@ mod firmware {
         Some(out)
     }
 
+    /// The two tangent maps of the EKF side by side on a state of the flight (a slew with the
+    /// wheels spun up): their largest difference, and that of the linearised map from the
+    /// identity (how much the step moves the covariance at all).
+    fn jacobian_check() {
+        let Ok((body, _)) =
+            Body::<f32>::from_inertia_tensor(scene::TENSOR.map(|r| r.map(|x| x as f32)))
+        else {
+            return;
+        };
+        let n = ORBIT_N as f32;
+        let gg = Gg {
+            k: n * n,
+            n,
+            inertia: body.inertia(),
+            cos0: 0.8,
+            sin0: 0.6,
+        };
+        let s = State::new([0.3f32, -0.4, 0.6], normalized([0.9f32, 0.1, -0.3, 0.2]));
+        let hw = [0.2f32, -0.5, 0.4];
+        let h = scene::H as f32;
+        let mut scratch = Mv::new(body, h);
+        let (Ok(a), Ok(b)) = (
+            estimator::transition_as(
+                Jacobian::Linearised,
+                &mut scratch,
+                &s,
+                body.inertia(),
+                hw,
+                &gg,
+                h,
+            ),
+            estimator::transition_as(Jacobian::Dmv, &mut scratch, &s, body.inertia(), hw, &gg, h),
+        ) else {
+            defmt::println!("Jacobian check: a step failed");
+            return;
+        };
+        let (mut diff, mut off) = (0.0f32, 0.0f32);
+        for i in 0..6 {
+            for j in 0..6 {
+                diff = diff.max(Real::abs(a[i][j] - b[i][j]));
+                off = off.max(Real::abs(a[i][j] - if i == j { 1.0 } else { 0.0 }));
+            }
+        }
+        defmt::println!("  the two maps at a slewing state with spun-up wheels: max |F_linearised - F_dmv| = {=f32} (max |F - I| = {=f32})", diff, off);
+    }
+
     fn run(top: usize, bottom: usize) -> bool {
         let Ok((body64, frame64)) = Body::<f64>::from_inertia_tensor(scene::TENSOR) else {
             return false;
@@ -370,7 +417,12 @@ mod firmware {
         );
         defmt::println!("gyro-less mode: EKF attitude error within its 3-sigma bound (per axis, after the update) at {=u32} of {=u32} axis-fixes ({=f32} %, required >= 99 %); all three axes within at {=u32} of {=u32} fixes", f.inside, 3 * f.fixes, coverage, f.inside_all, f.fixes);
         defmt::println!("pointing error (truth vs nadir target) at the end {=f32} rad; wheels {=f32} {=f32} {=f32} N m s", f.pointing, f.wheels[0], f.wheels[1], f.wheels[2]);
-        defmt::println!("EKF covariance transition: estimator::transition = first-order linearisation F = I + h A of the forced dynamics (rigid3's Mv::step_with_jacobian is the drop-in for its free-step part)");
+        let jac = match estimator::JACOBIAN {
+            Jacobian::Dmv => "the forced step's exact tangent map K1 T D T K0, D from rigid3's Mv::step_with_jacobian",
+            Jacobian::Linearised => "the first-order linearisation F = I + h A of the forced dynamics",
+        };
+        defmt::println!("EKF covariance transition (estimator::transition, one switch: estimator::JACOBIAN): {=str}", jac);
+        jacobian_check();
 
         // ---- loop cost
         let budget = |instr: u32| 100.0 * instr as f32 * 1000.0 / 168e6;
