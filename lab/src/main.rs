@@ -86,7 +86,7 @@ enum Command {
         #[arg(long, default_value_t = 10.0)]
         t: f64,
     },
-    /// Every chart of the README (figures 1-8, SVG and PNG), then the talk's claims table.
+    /// Every chart of the README (figures 1-9, SVG and PNG), then the talk's claims table.
     Figures {
         /// Output folder.
         #[arg(long, default_value = "figures")]
@@ -277,7 +277,7 @@ fn main() -> ExitCode {
                 rigid3_lab::claims::print(&measured);
                 println!();
                 println!(
-                    "{} files written to {}/ (fig1..fig8, .svg and .png)",
+                    "{} files written to {}/ (fig1..fig9, .svg and .png)",
                     files.len(),
                     out.display()
                 );

@@ -2,12 +2,20 @@
 //! top, gravity-gradient satellite with a wheel, gyrostat): error at `T = 10` (with attitude,
 //! against the mpmath references) against counted operations and against host time.
 
-use super::plot::{Figure, Lines, Panel};
+use super::plot::{Bars, Figure, Lines, Panel};
 use super::{legend, progress, series};
 use crate::forced_work::{ns_per_step, sweep, ForcedScene, FORCED_CHART};
 use crate::work_precision::Point;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+
+/// Instructions per forced f32 step with attitude on the Cortex-M4F, gravity gradient and
+/// three wheels (`scripts/firmware`'s regime table, fixed step; QEMU counts instructions, not
+/// cycles): the forced methods the firmware flies.
+pub const CORTEX_M4F_FORCED: [(&str, &str, f64); 2] = [
+    ("forced mv (M4F)", "mv", 1124.0),
+    ("forced pre-mv4 (M4F)", "pre-mv4", 1545.0),
+];
 
 fn panel(title: String, x_label: &str, series: Vec<super::plot::Series>) -> Panel {
     Panel::Lines(Lines {
@@ -100,11 +108,41 @@ pub fn figure(
                 .collect(),
         ));
     }
+    // the target: the firmware's forced steps (gravity gradient and wheels, f32, with attitude)
+    // in instructions per step, on the satellite scene (gravity gradient and a wheel)
+    let target_row = scenes.iter().position(|s| s.name == "satellite");
+    if let Some(si) = target_row {
+        let k_of = |m: &str| jobs.iter().position(|&(s, jm)| s == si && jm == m);
+        panels.push(panel(
+            "satellite: instructions on Cortex-M4F (QEMU), forced steps with attitude".into(),
+            "steps x instructions per step (f32 firmware: gravity gradient and wheels)",
+            CORTEX_M4F_FORCED
+                .iter()
+                .filter_map(|&(label, m, instr)| {
+                    let pts = sweeps[k_of(m)?]
+                        .iter()
+                        .map(|p| (p.n as f64 * instr, p.error))
+                        .collect();
+                    Some(series(m, label.into(), pts))
+                })
+                .collect(),
+        ));
+        panels.push(Panel::Bars(Bars {
+            title: "instructions per forced step on Cortex-M4F (QEMU)".into(),
+            y_label: "instructions (QEMU counts instructions, not cycles)".into(),
+            y_log: false,
+            bars: CORTEX_M4F_FORCED
+                .iter()
+                .map(|&(label, m, v)| (label.to_string(), v, super::style(m).0))
+                .collect(),
+        }));
+    }
+    let rows = scenes.len().max(1) + usize::from(target_row.is_some());
     let fig = Figure {
         title: "Figure 9: forced work-precision at T = 10: torques, gravity gradient and rotors"
             .into(),
-        size: (1500, 420 * scenes.len().max(1) as u32 + 80),
-        grid: (scenes.len().max(1), 2),
+        size: (1500, 420 * rows as u32 + 80),
+        grid: (rows, 2),
         panels,
         legend: legend(&FORCED_CHART),
         legend_width: 200,
