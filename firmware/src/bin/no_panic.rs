@@ -1,6 +1,7 @@
 //! Proof that the step functions cannot panic in a release build for the target.
 //!
-//! Every integrator's `step` and `step_state` (f32 and f64) and `Body`'s constructors are called
+//! Every integrator's `step` and `step_state` (f32 and f64), `Mv`'s and `PreMv`'s
+//! `step_with_jacobian` and `Body`'s constructors are called
 //! on inputs the compiler cannot see (volatile reads), and the panic handler calls a symbol that
 //! does not exist. If any panic path survives optimisation, the link fails with an undefined
 //! reference to `rigid3_step_function_can_panic`: building this example for
@@ -128,6 +129,30 @@ mod firmware {
         }
         if wanted("mv") {
             exercise(Mv::new(body, h), k);
+        }
+        if wanted("jacobian") {
+            // the step with its tangent map, on an opaque state
+            let mut s = State::new(
+                [
+                    T::from_f64(input(k)),
+                    T::from_f64(input(k + 1)),
+                    T::from_f64(input(k + 2)),
+                ],
+                [
+                    T::from_f64(input(k + 3)),
+                    T::ZERO,
+                    T::ZERO,
+                    T::from_f64(input(k + 4)),
+                ],
+            );
+            if let Ok(f) = Mv::new(body, h).step_with_jacobian(&mut s) {
+                output(5, f[0][0].to_f64() + f[5][5].to_f64());
+            }
+            if let Ok(mut a) = PreMv::new(body, h, 8) {
+                if let Ok(f) = a.step_with_jacobian(&mut s) {
+                    output(6, f[2][3].to_f64() + s.q[0].to_f64());
+                }
+            }
         }
         if wanted("seed") {
             exercise(SeedMv::new(body, h), k + 1);
