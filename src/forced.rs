@@ -162,6 +162,12 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         }
     }
 
+    /// Restarts the clock at `t` and drops the cached end torque (it was for the old time).
+    fn set_time(&mut self, t: T) {
+        self.clock = Clock { t, carry: T::ZERO };
+        self.last = None;
+    }
+
     fn set_rotor(&mut self, body: &Body<T>, h_r: [T; 3]) -> Result<(), StepError> {
         let r = checked_momentum(&h_r)?;
         let w = r.mul_elem(body.inverse_inertia());
@@ -339,8 +345,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
 
     /// Sets the time (for time-dependent torques).
     pub fn set_time(&mut self, t: T) {
-        self.forcing.clock = Clock { t, carry: T::ZERO };
-        self.forcing.last = None;
+        self.forcing.set_time(t);
     }
 
     /// The torque model.
@@ -636,8 +641,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
 
     /// Sets the time.
     pub fn set_time(&mut self, t: T) {
-        self.forcing.clock = Clock { t, carry: T::ZERO };
-        self.forcing.last = None;
+        self.forcing.set_time(t);
     }
 
     /// The torque model.
