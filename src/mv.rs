@@ -98,6 +98,9 @@ struct Track<T> {
     d12: T,
     d13: T,
     d23: T,
+    /// `delta` is small enough (`h |Omega|` small) that a free-running step keeps it as it
+    /// is: see [`Mv::system`].
+    frozen: bool,
 }
 
 impl<T: Real> Track<T> {
@@ -126,6 +129,7 @@ impl<T: Real> Track<T> {
             d12: T::ZERO,
             d13: T::ZERO,
             d23: T::ZERO,
+            frozen: false,
         }
     }
 
@@ -213,7 +217,17 @@ pub struct Mv<T> {
     retake: bool,
     /// `I^-1`, for the attitude's update.
     inv_i: Vec3<T>,
+    /// Steps since the last full attitude step (`0` = the next step is one): see
+    /// [`HOLD_PERIOD`].
+    phase: u8,
 }
+
+/// A step with attitude renormalises `q` and turns it back onto the spatial momentum (about
+/// 110 of its 318 flops) only every `HOLD_PERIOD`-th step, and whenever the caller changed `q`;
+/// the steps between compose the turn without either. Both correct round-off of an ulp or so
+/// a step, so between two holds `|q|` and `R(q) m` move by at most a few ulps, and the drift
+/// stays bounded (tests/soak.rs); a step never costs more than before.
+const HOLD_PERIOD: u8 = 8;
 
 /// The invariants the trajectory must keep: taken from the input whenever it is not the
 /// momentum this integrator returned last (the caller changed it). They are the DMV map's
@@ -266,9 +280,12 @@ fn energy_correction<T: Real>(k: &Coefficients<T>, t: &Track<T>, da: T, db: T) -
 /// The spatial momentum the attitude is held to.
 #[derive(Clone, Copy, Debug)]
 struct Spatial<T> {
-    /// `pi0`, or `pi0 / |pi0|^2` when `ready`.
+    /// `pi0 / |pi0|^2` once `ready`; until then `pi0 = R(from_q) from_m` is not formed (a
+    /// loop that changes `m` every tick re-takes the reference every step and never holds).
     pi: Vec3<T>,
     ready: bool,
+    from_m: Vec3<T>,
+    from_q: Quat<T>,
     last_q: Quat<T>,
 }
 
@@ -407,21 +424,24 @@ impl<T: Real> Mv<T> {
             recheck: false,
             retake: false,
             inv_i: body.inverse_inertia(),
+            phase: 0,
         }
     }
 
     /// Holds the spatial momentum `R(q) m` of the trajectory: the attitude's rounding (about
     /// an ulp a step, biased) made it drift linearly in f32 (`7e-5` after `10^6` steps and
     /// `7e-4` after `10^7` at 200 Hz on the spacecraft). While the caller leaves the state
-    /// alone, the new attitude is turned in space by the small rotation `theta = pi x pi0 /
-    /// |pi0|^2` that takes `pi = R(q') m'` back to the direction of `pi0` (to first order,
-    /// exact to `O(eps^2)`: `q' + (0, theta/2) (x) q'`, no square root); the turn about `pi0`
-    /// itself is left free. The free flow keeps `pi` constant, so this only removes round-off.
-    /// The reference is re-taken from the input whenever the caller changed `m` or `q`.
+    /// alone, every [`HOLD_PERIOD`]-th new attitude (`full`) is turned in space by the small
+    /// rotation `theta = pi x pi0 / |pi0|^2` that takes `pi = R(q') m'` back to the direction
+    /// of `pi0` (to first order, exact to `O(eps^2)`: `q' + (0, theta/2) (x) q'`, no square
+    /// root); the turn about `pi0` itself is left free. The free flow keeps `pi` constant, so
+    /// this only removes round-off. The reference is re-taken from the input whenever the
+    /// caller changed `m` or `q`, and formed only when a hold first needs it.
     #[inline]
     fn hold_spatial(
         &mut self,
         follows: bool,
+        full: bool,
         m: Vec3<T>,
         q: Quat<T>,
         next: Vec3<T>,
@@ -434,17 +454,24 @@ impl<T: Real> Mv<T> {
             Some(sp) if follows => sp,
             _ => {
                 anchor.spatial = Some(Spatial {
-                    pi: q.rotate(m),
+                    pi: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
                     ready: false,
+                    from_m: m,
+                    from_q: q,
                     last_q: q_next,
                 });
                 return q_next;
             }
         };
+        if !full {
+            sp.last_q = q_next;
+            return q_next;
+        }
         if !sp.ready {
-            let n2 = sp.pi.norm2();
+            let pi0 = sp.from_q.rotate(sp.from_m);
+            let n2 = pi0.norm2();
             sp.pi = if n2 > T::ZERO && n2.is_finite() {
-                sp.pi.scale(T::ONE / n2)
+                pi0.scale(T::ONE / n2)
             } else {
                 Vec3::new(T::ZERO, T::ZERO, T::ZERO)
             };
@@ -464,6 +491,51 @@ impl<T: Real> Mv<T> {
         held
     }
 
+    /// Whether `q` is the attitude this integrator returned last, and whether `(m, q)` is the
+    /// state it returned last; decided before the step moves the anchor on (a flag, not a
+    /// copy: see `system`).
+    #[inline(always)]
+    fn follows_state(&self, m: Vec3<T>, q: Quat<T>) -> (bool, bool) {
+        match &self.anchor {
+            Some(Anchor {
+                last,
+                spatial: Some(sp),
+                ..
+            }) if sp.last_q == q => (true, *last == m),
+            _ => (false, false),
+        }
+    }
+
+    /// The new attitude `q (x) p` and its hold; a full step renormalises and holds, the
+    /// others compose the turn alone ([`HOLD_PERIOD`]).
+    #[inline(always)]
+    fn turn_attitude(
+        &mut self,
+        (ours, follows): (bool, bool),
+        m: Vec3<T>,
+        q: Quat<T>,
+        next: Vec3<T>,
+        p: Quat<T>,
+    ) -> Quat<T> {
+        let full = self.phase == 0 || !ours;
+        let q_next = if full {
+            compose_attitude(q, p)
+        } else {
+            compose_unrenormalised(q, p)
+        };
+        self.hold_spatial(follows, full, m, q, next, q_next)
+    }
+
+    /// Counts a successful step with attitude towards the next full one.
+    #[inline(always)]
+    fn count_attitude_step(&mut self) {
+        self.phase = if self.phase + 1 >= HOLD_PERIOD {
+            0
+        } else {
+            self.phase + 1
+        };
+    }
+
     /// `step_state` that also returns the step's turn `p = quat(X)` (`q' = q (x) p`,
     /// `m' = R(p)^T m`), for the tangent map ([`crate::tangent`]). The same lines as
     /// `step_state` (kept apart so the loop's step stays as it is: `step_state` calling this and
@@ -471,16 +543,13 @@ impl<T: Real> Mv<T> {
     /// tests/jacobian.rs checks the two give bit-identical states).
     pub(crate) fn step_state_rotation(&mut self, s: &mut State<T>) -> Result<Quat<T>, StepError> {
         let (v, q) = checked_state(s)?;
-        let follows_q = matches!(
-            &self.anchor,
-            Some(Anchor { last, spatial: Some(sp), .. }) if *last == v && sp.last_q == q
-        );
+        let follows = self.follows_state(v, q);
         let step = self.advance(v)?;
         let next = step.next;
         let p = self.rotation_between(v, next, step.increment);
-        let q_next = compose_attitude(q, p);
-        let held = self.hold_spatial(follows_q, v, q, next, q_next);
+        let held = self.turn_attitude(follows, v, q, next, p);
         write_state(s, next, held)?;
+        self.count_attitude_step();
         Ok(p)
     }
 
@@ -596,7 +665,7 @@ impl<T: Real> Mv<T> {
             // the largest root is simple (docs/MATH.md §4); a flat quartic means no valid split
             return Err(StepError::Degenerate);
         }
-        t.delta = delta;
+        t.set_delta(delta);
         t.inv_dg = T::ONE / dg;
         Ok(t)
     }
@@ -629,13 +698,17 @@ impl<T: Real> Mv<T> {
         if !free_running && !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
+        if free_running && t.frozen {
+            // the input is on the anchored invariants (each step moves it back onto them),
+            // and delta was solved for those: nothing to update
+            return Ok((k, resynced));
+        }
         let (g, _) = t.g_only(t.delta, &k);
         let correction = g * t.inv_dg;
-        // the stale derivative of a chord step is good enough only while the invariants
-        // stay put (free running); after an outside change of m or h, Newton
-        if free_running && correction.abs() <= t.newton_tol {
-            t.delta -= correction;
-        } else if !t.newton(&k) {
+        // after an outside change of m or h: two chord steps whose second shows the
+        // convergence (no division), else Newton
+        let chord = correction.abs() <= t.newton_tol && t.chord_converges(&k, correction);
+        if !chord && !t.newton(&k) {
             // far from the tracked root (a large change of m or h): solve exactly, with the
             // scale re-chosen for this m
             *t = Self::resync(&self.body, self.h, m)?;
@@ -865,13 +938,44 @@ impl<T: Real> Track<T> {
                 if !delta.is_finite() {
                     return false;
                 }
-                self.delta = delta;
+                self.set_delta(delta);
                 self.inv_dg = inv_dg;
                 return true;
             }
             it += 1;
         }
         false
+    }
+
+    /// After an outside change of `m` or `h`: a chord step of size `correction` from the
+    /// tracked `delta`, then a second, kept (and `true`) only if it shows the stale
+    /// derivative good enough. A chord step contracts the error by `r = |1 - g'/g'_stale|`,
+    /// measured as the ratio of the two corrections, so after the second the error is about
+    /// `c2 r`; it must be below `eps |delta|` (the relative accuracy the increment needs,
+    /// [`Track`]). `r` is `O(h^2 |Omega|^2)` times the relative change of the invariants, so a
+    /// jittering clock or a filter's correction passes; a large change goes to Newton.
+    #[inline]
+    fn chord_converges(&mut self, k: &Coefficients<T>, correction: T) -> bool {
+        let d1 = self.delta - correction;
+        let (g1, _) = self.g_only(d1, k);
+        let c2 = g1 * self.inv_dg;
+        let d2 = d1 - c2;
+        let small = c2.abs() <= c::<T>(4.0) * T::EPSILON * d2.abs();
+        let converged = c2.abs() * c::<T>(2.0) <= correction.abs()
+            && sq(c2) <= T::EPSILON * d2.abs() * correction.abs();
+        if (small || converged) && d2.is_finite() {
+            self.set_delta(d2);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Sets the tracked root, and whether free-running steps may keep it as it is.
+    #[inline]
+    fn set_delta(&mut self, delta: T) {
+        self.delta = delta;
+        self.frozen = delta.abs() <= c::<T>(FROZEN_BELOW) * self.s0;
     }
 
     /// `g(delta)` and `g'(delta)`.
@@ -881,6 +985,28 @@ impl<T: Real> Track<T> {
         (g, dg)
     }
 }
+
+/// `q (x) p` as `q + q (x) (p - 1)`: [`compose_attitude`] without its pull back to unit
+/// length, for the steps between two full ones ([`HOLD_PERIOD`]). `|p| = 1` to an ulp, so
+/// `|q|` moves by about an ulp a step, and the next full step's first-order renormalisation
+/// takes it back (it converges quadratically from any `| |q| - 1 |` below `1e-3`).
+#[inline(always)]
+fn compose_unrenormalised<T: Real>(q: Quat<T>, p: Quat<T>) -> Quat<T> {
+    let inc = q.mul(Quat {
+        w: p.w - T::ONE,
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    });
+    Quat {
+        w: q.w + inc.w,
+        x: q.x + inc.x,
+        y: q.y + inc.y,
+        z: q.z + inc.z,
+    }
+}
+
+const FROZEN_BELOW: f64 = 1e-2;
 
 /// True iff `mu^3 - A mu^2 + B mu - C` (`C >= 0`) has no negative real root.
 #[inline]
@@ -909,17 +1035,14 @@ impl<T: Real> Integrator<T> for Mv<T> {
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
-        // whether the attitude is the one returned last, decided before the step moves the
-        // anchor on (a flag, not a copy: see `system`)
-        let follows_q = matches!(
-            &self.anchor,
-            Some(Anchor { last, spatial: Some(sp), .. }) if *last == v && sp.last_q == q
-        );
+        let follows = self.follows_state(v, q);
         let step = self.advance(v)?;
         let next = step.next;
-        let q_next = compose_attitude(q, self.rotation_between(v, next, step.increment));
-        let held = self.hold_spatial(follows_q, v, q, next, q_next);
-        write_state(s, next, held)
+        let p = self.rotation_between(v, next, step.increment);
+        let held = self.turn_attitude(follows, v, q, next, p);
+        write_state(s, next, held)?;
+        self.count_attitude_step();
+        Ok(())
     }
 
     fn step_size(&self) -> T {
