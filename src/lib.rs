@@ -107,6 +107,7 @@ mod linalg;
 mod max_step;
 mod midpoint;
 mod mv;
+mod mv_frozen;
 mod mv_pre;
 mod mv_retimed;
 mod mv_seed;

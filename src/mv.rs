@@ -37,6 +37,7 @@ use crate::integrator::{
     checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
+use crate::mv_frozen::FrozenMap;
 use crate::real::{c, sq, Real};
 
 /// Per-trajectory data of the closed-form step: the scale, the scaled body and
@@ -217,6 +218,9 @@ pub struct Mv<T> {
     retake: bool,
     /// `I^-1`, for the attitude's update.
     inv_i: Vec3<T>,
+    /// The free-running map's coefficients for the current trajectory, `h` and body (built
+    /// by the first free-running step at small `h |Omega|`, dropped by every other step).
+    frozen: Option<FrozenMap<T>>,
     /// Steps since the last full attitude step (`0` = the next step is one): see
     /// [`HOLD_PERIOD`].
     phase: u8,
@@ -262,7 +266,7 @@ struct Anchor<T> {
 /// The 2x2 solve of [`Anchor::correction`], or `None` where the Gram determinant is small.
 #[cold]
 #[inline(never)]
-fn energy_correction<T: Real>(k: &Coefficients<T>, t: &Track<T>, da: T, db: T) -> Option<(T, T)> {
+fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> Option<(T, T)> {
     let a = k.a;
     let det = a.x * a.y * t.d12 + a.x * a.z * t.d13 + a.y * a.z * t.d23;
     let gamma = a.dot(t.j4);
@@ -312,7 +316,7 @@ impl<T: Real> Anchor<T> {
     /// equal moments) the energy is fixed by `|m|^2` to first order and only the Casimir is
     /// corrected (`y = 0`). Returns `(x, y)`.
     #[inline]
-    fn correction(&mut self, k: &Coefficients<T>, t: &Track<T>) -> (T, T) {
+    fn correction(&mut self, k: Invariants<T>, t: &Track<T>) -> (T, T) {
         if self.half_inv == T::ZERO && self.alpha > T::ZERO {
             self.half_inv = c::<T>(0.5) / self.alpha;
         }
@@ -425,6 +429,7 @@ impl<T: Real> Mv<T> {
             retake: false,
             inv_i: body.inverse_inertia(),
             phase: 0,
+            frozen: None,
         }
     }
 
@@ -730,6 +735,12 @@ impl<T: Real> Mv<T> {
     #[inline(always)]
     fn advance(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
         let follows = matches!(&self.anchor, Some(a) if a.last == m);
+        if follows && !self.recheck && !self.retake {
+            if let Some(step) = self.advance_frozen(m) {
+                return Ok(step);
+            }
+        }
+        self.frozen = None;
         let (k, resynced) = self.system(m, follows && !self.recheck)?;
         let Some(t) = self.track.as_ref() else {
             return Err(StepError::Degenerate);
@@ -742,7 +753,7 @@ impl<T: Real> Mv<T> {
         // filter's correction is kept, not undone), the scale moved or the body changed. (Kept inline: as a
         // function taking `&mut Option<Anchor>` it cost an instruction per step on the M4F.)
         let (corr, corr_v) = match self.anchor.as_mut() {
-            Some(a) if follows && !resynced && !self.retake => a.correction(&k, t),
+            Some(a) if follows && !resynced && !self.retake => a.correction(k.invariants(), t),
             _ => {
                 // the spatial momentum stays the trajectory's (hold_spatial re-takes it if
                 // the attitude changed too)
@@ -772,6 +783,36 @@ impl<T: Real> Mv<T> {
             a.last = next;
         }
         Ok(Advanced { next, increment })
+    }
+}
+
+impl<T: Real> Mv<T> {
+    /// The free-running step at small `h |Omega|` (crate::mv_frozen): the same map as the
+    /// solve, with the trajectory's constants folded into a [`FrozenMap`]. `None` when it
+    /// does not apply (no tracked root yet, or `h |Omega|` large) or its result overflows;
+    /// then nothing has changed but the anchor's cached `1 / (2 alpha)`.
+    #[inline(always)]
+    fn advance_frozen(&mut self, m: Vec3<T>) -> Option<Advanced<T>> {
+        let t = self.track.as_ref()?;
+        if !t.frozen {
+            return None;
+        }
+        let a = self.anchor.as_mut()?;
+        if self.frozen.is_none() {
+            self.frozen = Some(FrozenMap::new(t.j, t.c0, t.s0, t.delta, t.hn, a.alpha));
+        }
+        // by reference: a copy of the 19 words was a memcpy call
+        let map = self.frozen.as_ref()?;
+        // the invariants by value: a reference to a Coefficients put it on the stack, and
+        // reading it back stalled the step on the host (57 instead of 45 ns)
+        let (corr, corr_v) = a.correction(t.invariants(m), t);
+        let increment = map.increment(m, corr + T::ONE)?;
+        let next = m.add(increment.add(t.invariant_fix(m, corr, corr_v)));
+        if !next.is_finite() {
+            return None;
+        }
+        a.last = next;
+        Some(Advanced { next, increment })
     }
 }
 
@@ -876,7 +917,39 @@ struct Coefficients<T> {
     beta: T,
 }
 
+/// The DMV invariants of one input in scaled units: `a_i = mm_i^2`, `alpha = sum a_i` and
+/// `beta = sum a_i j_i^2`.
+#[derive(Clone, Copy)]
+struct Invariants<T> {
+    a: Vec3<T>,
+    sum_a: T,
+    beta: T,
+}
+
+impl<T: Real> Coefficients<T> {
+    #[inline(always)]
+    fn invariants(&self) -> Invariants<T> {
+        Invariants {
+            a: self.a,
+            sum_a: self.sum_a,
+            beta: self.beta,
+        }
+    }
+}
+
 impl<T: Real> Track<T> {
+    /// [`Invariants`] of momentum `m`.
+    #[inline(always)]
+    fn invariants(&self, m: Vec3<T>) -> Invariants<T> {
+        let mm = m.scale(self.hn);
+        let a = mm.mul_elem(mm);
+        Invariants {
+            a,
+            sum_a: a.x + a.y + a.z,
+            beta: a.dot(self.j2),
+        }
+    }
+
     #[inline(always)]
     fn coefficients(&self, m: Vec3<T>) -> Coefficients<T> {
         let mm = m.scale(self.hn);
@@ -1083,5 +1156,35 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn reset(&mut self) {
         self.track = None;
         self.anchor = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Which path a step takes: the rational map while free running at small `h |Omega|`,
+    /// the solve after any outside change and at large `h |Omega|`.
+    #[test]
+    fn free_running_small_steps_take_the_rational_map() {
+        let body = Body::<f64>::from_mass_matrix([0.9218, 0.7382, 0.1763]).unwrap();
+        let mut m = [0.4165, 0.9072, 0.0588];
+        let mut mv = Mv::new(body, 0.01);
+        mv.step(&mut m).unwrap();
+        assert!(mv.frozen.is_none(), "the first step solves");
+        mv.step(&mut m).unwrap();
+        assert!(mv.frozen.is_some(), "a free-running step takes the map");
+        mv.set_step_size(0.011);
+        mv.step(&mut m).unwrap();
+        assert!(mv.frozen.is_none(), "a changed h solves");
+        m[0] *= 1.0 + 1e-4;
+        mv.step(&mut m).unwrap();
+        assert!(mv.frozen.is_none(), "a changed m solves");
+        let mut big = Mv::new(body, 0.9);
+        let mut m = [0.4165, 0.9072, 0.0588];
+        for _ in 0..3 {
+            big.step(&mut m).unwrap();
+        }
+        assert!(big.frozen.is_none(), "large h |Omega| tracks s1");
     }
 }
