@@ -209,7 +209,7 @@ type Kicked<T> = (Vec3<T>, Quat<T>, Vec3<T>);
 /// One kick–turn–drift–turn–kick step of length `h` ending at time `t1`, from `(m, q)` with
 /// the start torque `tau0` given; returns the new state and the end torque.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
     drift: &mut D,
     torque: &F,

@@ -309,6 +309,18 @@ impl<T: Real> Anchor<T> {
         }
     }
 
+    /// [`Anchor::take`] in place, keeping the spatial reference.
+    #[inline(always)]
+    fn retake(&mut self, m: Vec3<T>, k: Invariants<T>, hn: T) {
+        self.last = m;
+        self.alpha = k.sum_a;
+        self.beta = k.beta;
+        self.beta_tol = c::<T>(16.0) * T::EPSILON * k.beta;
+        self.half_inv = T::ZERO;
+        self.hn2 = sq(hn);
+        self.taken = (k.sum_a, k.beta);
+    }
+
     /// The first-order correction `delta = x m + y (j^2 m)` that takes the input's invariants
     /// back to the anchored ones: `[[alpha, beta], [beta, gamma]] (x, y) = (d_alpha, d_beta) / 2`
     /// with `gamma = sum a_i j_i^4`, whose determinant `sum_{i<k} a_i a_k (j_i^2 - j_k^2)^2` is
@@ -332,8 +344,9 @@ impl<T: Real> Anchor<T> {
         (da * self.half_inv, T::ZERO)
     }
 
-    /// The same invariants for the scaled step `hn`.
-    fn rescaled(self, hn: T) -> Self {
+    /// The same invariants for the scaled step `hn`, in place (the spatial reference is
+    /// kept: it does not depend on `h`).
+    fn rescale(&mut self, hn: T) {
         let r = if self.hn2 > T::ZERO {
             sq(hn) / self.hn2
         } else {
@@ -341,14 +354,10 @@ impl<T: Real> Anchor<T> {
         };
         let (alpha, beta) = (self.taken.0 * r, self.taken.1 * r);
         let ok = alpha.is_finite() && beta.is_finite();
-        let beta = if ok { beta } else { T::ZERO };
-        Self {
-            alpha: if ok { alpha } else { T::ZERO },
-            beta,
-            beta_tol: c::<T>(16.0) * T::EPSILON * beta,
-            half_inv: T::ZERO,
-            ..self
-        }
+        self.alpha = if ok { alpha } else { T::ZERO };
+        self.beta = if ok { beta } else { T::ZERO };
+        self.beta_tol = c::<T>(16.0) * T::EPSILON * self.beta;
+        self.half_inv = T::ZERO;
     }
 }
 
@@ -457,7 +466,15 @@ impl<T: Real> Mv<T> {
         };
         let sp = match anchor.spatial.as_mut() {
             Some(sp) if follows => sp,
-            _ => {
+            Some(sp) => {
+                // re-taken in place (see `advance`)
+                sp.ready = false;
+                sp.from_m = m;
+                sp.from_q = q;
+                sp.last_q = q_next;
+                return q_next;
+            }
+            None => {
                 anchor.spatial = Some(Spatial {
                     pi: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
                     ready: false,
@@ -636,7 +653,7 @@ impl<T: Real> Mv<T> {
         let lin = t.two_u0 * (t.two_s0 + t.two_s0) - t.s3x8;
         if lin > T::ZERO {
             t.delta = -(t.two_u0 * k.sum_a + c::<T>(4.0) * k.beta) / lin;
-            if t.newton(&k) {
+            if t.newton(k.invariants()) {
                 return Ok(t);
             }
         }
@@ -653,11 +670,11 @@ impl<T: Real> Mv<T> {
         let s1 = quartic_largest_root(k.big_a, k.big_b, t.s3).ok_or(StepError::StepTooLarge)?;
         // polish delta on the cancellation-free g: s1 - s0 has only absolute accuracy
         let mut delta = s1 - s0;
-        let (mut g, mut dg) = t.g(delta, k);
+        let (mut g, mut dg) = t.g(delta, k.invariants());
         let mut it = 0;
         while it < 4 && dg > T::ZERO && g != T::ZERO {
             let next = delta - g / dg;
-            let (gn, dgn) = t.g(next, k);
+            let (gn, dgn) = t.g(next, k.invariants());
             if !(gn.abs() < g.abs()) {
                 break;
             }
@@ -708,12 +725,13 @@ impl<T: Real> Mv<T> {
             // and delta was solved for those: nothing to update
             return Ok((k, resynced));
         }
-        let (g, _) = t.g_only(t.delta, &k);
+        let (g, _) = t.g_only(t.delta, k.invariants());
         let correction = g * t.inv_dg;
         // after an outside change of m or h: two chord steps whose second shows the
         // convergence (no division), else Newton
-        let chord = correction.abs() <= t.newton_tol && t.chord_converges(&k, correction);
-        if !chord && !t.newton(&k) {
+        let chord =
+            correction.abs() <= t.newton_tol && t.chord_converges(k.invariants(), correction);
+        if !chord && !t.newton(k.invariants()) {
             // far from the tracked root (a large change of m or h): solve exactly, with the
             // scale re-chosen for this m
             *t = Self::resync(&self.body, self.h, m)?;
@@ -752,16 +770,20 @@ impl<T: Real> Mv<T> {
         // ([`Anchor::correction`]); the anchor is re-taken when the caller changed m (a
         // filter's correction is kept, not undone), the scale moved or the body changed. (Kept inline: as a
         // function taking `&mut Option<Anchor>` it cost an instruction per step on the M4F.)
-        let (corr, corr_v) = match self.anchor.as_mut() {
-            Some(a) if follows && !resynced && !self.retake => a.correction(k.invariants(), t),
+        let correction = match self.anchor.as_mut() {
+            Some(a) if follows && !resynced && !self.retake => {
+                Some(a.correction(k.invariants(), t))
+            }
             _ => {
                 // the spatial momentum stays the trajectory's (hold_spatial re-takes it if
                 // the attitude changed too)
-                let spatial = self.anchor.as_ref().and_then(|a| a.spatial);
-                let mut a = Anchor::take(m, &k, t.hn);
-                a.spatial = spatial;
-                self.anchor = Some(a);
-                (T::ZERO, T::ZERO)
+                // (in place: building a new anchor and moving it in copied about 50 words a
+                // step on the M4F in a loop that changes m every tick)
+                match self.anchor.as_mut() {
+                    Some(a) => a.retake(m, k.invariants(), t.hn),
+                    None => self.anchor = Some(Anchor::take(m, &k, t.hn)),
+                }
+                None
             }
         };
         let sys = t.transposed_system(&k);
@@ -769,11 +791,18 @@ impl<T: Real> Mv<T> {
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp); the
         // m part is folded into the solve, the j^2 m part added after it (its rotation by the
         // step is a second-order small term)
-        let y = solve_cramer(&sys.lt, m, corr + T::ONE)?;
+        let scale = match correction {
+            Some((corr, _)) => corr + T::ONE,
+            None => T::ONE,
+        };
+        let y = solve_cramer(&sys.lt, m, scale)?;
         let delta_m = t.increment_matrix(&sys);
-        let fixed = t.invariant_fix(m, corr, corr_v);
         let increment = delta_m.mul_vec(y);
-        let next = m.add(increment.add(fixed));
+        let next = match correction {
+            Some((corr, corr_v)) => m.add(increment.add(t.invariant_fix(m, corr, corr_v))),
+            // a re-taken anchor has nothing to correct
+            None => m.add(increment),
+        };
         if !next.is_finite() {
             return Err(StepError::Overflow);
         }
@@ -968,7 +997,7 @@ impl<T: Real> Track<T> {
 
     /// `g(delta)` (see [`Track`]) and `eps_u`.
     #[inline]
-    fn g_only(&self, delta: T, k: &Coefficients<T>) -> (T, T) {
+    fn g_only(&self, delta: T, k: Invariants<T>) -> (T, T) {
         let eps_u = self.two_s0 * delta + sq(delta) + k.sum_a;
         let g = self.two_u0 * eps_u + sq(eps_u) - self.s3x8 * delta + c::<T>(4.0) * k.beta;
         (g, eps_u)
@@ -987,12 +1016,13 @@ impl<T: Real> Track<T> {
     /// Each iteration costs one division; from a tracked value after a small change of `m`
     /// or `h` it takes one or two, from the series at small `h |Omega|` two to four.
     #[inline(never)]
-    fn newton(&mut self, k: &Coefficients<T>) -> bool {
+    fn newton(&mut self, k: Invariants<T>) -> bool {
+        let big_a = self.sum_j2 - k.sum_a;
         let mut delta = self.delta;
         let mut it = 0;
         while it < 12 {
             let s = self.s0 + delta;
-            if !(s > T::ZERO && c::<T>(3.0) * sq(s) > k.big_a) {
+            if !(s > T::ZERO && c::<T>(3.0) * sq(s) > big_a) {
                 return false;
             }
             let (g, dg) = self.g(delta, k);
@@ -1028,7 +1058,7 @@ impl<T: Real> Track<T> {
     /// [`Track`]). `r` is `O(h^2 |Omega|^2)` times the relative change of the invariants, so a
     /// jittering clock or a filter's correction passes; a large change goes to Newton.
     #[inline]
-    fn chord_converges(&mut self, k: &Coefficients<T>, correction: T) -> bool {
+    fn chord_converges(&mut self, k: Invariants<T>, correction: T) -> bool {
         let d1 = self.delta - correction;
         let (g1, _) = self.g_only(d1, k);
         let c2 = g1 * self.inv_dg;
@@ -1052,7 +1082,7 @@ impl<T: Real> Track<T> {
     }
 
     /// `g(delta)` and `g'(delta)`.
-    fn g(&self, delta: T, k: &Coefficients<T>) -> (T, T) {
+    fn g(&self, delta: T, k: Invariants<T>) -> (T, T) {
         let (g, eps_u) = self.g_only(delta, k);
         let dg = (self.two_u0 + eps_u + eps_u) * (self.two_s0 + delta + delta) - self.s3x8;
         (g, dg)
@@ -1136,8 +1166,9 @@ impl<T: Real> Integrator<T> for Mv<T> {
                 let r = h / old;
                 t.hn = hn;
                 t.delta *= sq(r);
+                self.frozen = None;
                 if let Some(a) = self.anchor.as_mut() {
-                    *a = a.rescaled(hn);
+                    a.rescale(hn);
                 }
             }
             _ => {
