@@ -127,6 +127,7 @@ mod tests {
     }
 
     /// `x` solving the 3x3 system `a x = b` by Gaussian elimination with partial pivoting.
+    #[allow(clippy::needless_range_loop)]
     fn solve(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> [f64; 3] {
         for col in 0..3 {
             let piv = (col..3)
