@@ -19,8 +19,18 @@
 //! `s1` is the largest real root of `(s^2 - A)^2 - 8 s3 s - 4 B` ([`crate::cubic`]), and
 //! `s2 = (s1^2 - A) / 2`. `A` and `B` depend on `m` only through `|m|^2` and
 //! `sum J_i^2 m_i^2`, which the DMV map conserves, so `s1` is constant along a trajectory: it is
-//! found exactly once and then tracked by one Newton step per step, which keeps it at
-//! round-off (freezing it instead lets round-off grow without bound, docs/MATH.md §4).
+//! found exactly once and then tracked, which keeps it at round-off (freezing it lets
+//! round-off grow without bound, docs/MATH.md §4, unless each step's input is moved back
+//! onto the invariants, as here, and `h |Omega|` is small).
+//!
+//! # The free-running step
+//!
+//! While the caller leaves the state alone and `|s1 - sum J| <= 1e-2 sum J` (about
+//! `h |Omega| < 0.2`), `s1`, `s2` and `|m|^2` are constants of the trajectory, the solve above
+//! collapses to a rational map of `m` with precomputed coefficients (crate::mv_frozen, one
+//! division and no 3x3 solve), and the attitude is renormalised and held to the spatial
+//! momentum only every 8th step (`HOLD_PERIOD`). An outside change of `m`, `h` or the body
+//! takes the solve above for that step.
 //!
 //! # Existence
 //!
@@ -180,10 +190,12 @@ struct Advanced<T> {
 ///
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
 /// `Re > 0` (Moser & Veselov 1991; the talk's eq. (2)) and sets `m_{k+1} = X^T m_k`,
-/// `R_{k+1} = R_k X`, through the linear system of the module docs: 150 counted flops per
-/// momentum step (one division) and 318 with attitude (two square roots: the turn's
-/// quaternion is read off the momentum pair), no `sqrt` in the momentum step,
-/// no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
+/// `R_{k+1} = R_k X`, through the linear system of the module docs: 106 counted flops per
+/// free-running momentum step (one division: the rational map of crate::mv_frozen) and 188
+/// with attitude on average (two square roots: the turn's quaternion is read off the
+/// momentum pair; the attitude is renormalised and held every 8th step), and
+/// 150 and 318 on a step after an outside change (the 3x3 solve); no `sqrt` in the momentum
+/// step, no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
 /// and re-solved when the caller changes `m` (a filter's correction, a torque kick) or `h` (a
 /// jittering clock): by guarded Newton steps from the tracked value (one or two divisions,
 /// no transcendental call), or from its series in `h^2` for a fresh start; only at
@@ -194,7 +206,7 @@ struct Advanced<T> {
 /// first order, division-free on most steps) and turns the new attitude back onto the
 /// trajectory's spatial momentum `R(q) m`. Without this, rounding drifts them: in f32 at
 /// 200 Hz on the firmware's spacecraft, `E` by `2.6e-5` and `R(q) m` by `7.3e-5` after `10^6`
-/// steps, growing; held, all three stay below `1e-6` through `10^8` steps (tests/soak.rs).
+/// steps, growing; held, all three stay below `2e-6` through `10^8` steps (tests/soak.rs).
 ///
 /// Accuracy: agrees with the general Cardoso–Leite solver to about `1e-15` per step (f64);
 /// second order, time-reversible, Poisson; the phase error on the talk's case is `0.51 h^2`
