@@ -18,7 +18,7 @@
 
 use crate::rng::Rng;
 use crate::scenes::{spacecraft, SPACECRAFT_H};
-use rigid3::{Body, Integrator, Mv, PreMv, Real, Splitting, State, StepError};
+use rigid3::{Body, Integrator, Mv, PreMv, Real, RetimedMv, Splitting, State, StepError};
 use serde::Serialize;
 use std::hint::black_box;
 use std::time::Instant;
@@ -26,7 +26,7 @@ use std::time::Instant;
 /// The regimes, in table order.
 pub const REGIMES: [&str; 4] = ["fixed", "jitter", "corrected", "torque"];
 /// The methods, in table order (the 5-rotation splitting last, as the yardstick).
-pub const METHODS: [&str; 4] = ["mv", "pre-mv4", "pre-mv10", "splitting"];
+pub const METHODS: [&str; 5] = ["mv", "pre-mv4", "pre-mv10", "retimed-mv", "splitting"];
 /// Default steps per timed batch.
 pub const DEFAULT_STEPS: usize = 300_000;
 
@@ -235,6 +235,13 @@ fn measure_precision<T: Real>(
                 ),
                 "pre-mv10" => time(
                     PreMv::new(body, h, 10).map_err(|e| e.to_string())?,
+                    s0,
+                    regime,
+                    &tables,
+                    steps,
+                ),
+                "retimed-mv" => time(
+                    RetimedMv::new(body, h, 2).map_err(|e| e.to_string())?,
                     s0,
                     regime,
                     &tables,

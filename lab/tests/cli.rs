@@ -123,7 +123,7 @@ fn loop_cost_json_has_every_method_precision_and_regime() {
         hits[0].clone()
     };
     for precision in ["f64", "f32"] {
-        for method in ["mv", "pre-mv4", "pre-mv10", "splitting"] {
+        for method in ["mv", "pre-mv4", "pre-mv10", "retimed-mv", "splitting"] {
             for regime in regimes {
                 let r = find(method, precision, regime);
                 let ns = r["ns_per_step"].as_f64().unwrap();
@@ -136,8 +136,8 @@ fn loop_cost_json_has_every_method_precision_and_regime() {
             }
         }
     }
-    // 4 regimes x 3 methods x 2 precisions, and the splitting's 4 x 2
-    assert_eq!(rows.len(), 4 * 3 * 2 + 4 * 2);
+    // 4 regimes x 4 methods x 2 precisions, and the splitting's 4 x 2
+    assert_eq!(rows.len(), 4 * 4 * 2 + 4 * 2);
     assert!(rows
         .iter()
         .all(|r| regimes.contains(&r["regime"].as_str().unwrap())));
