@@ -522,3 +522,44 @@ fn free_running_steps_equal_fresh_solves() {
     eprintln!("worst one-step difference {worst:e}");
     assert!(worst < 2e-15, "worst one-step difference {worst:e}");
 }
+
+/// The same in f32 (the firmware's precision): the free-running map and a fresh solve agree
+/// to a few ulps of `|m|`.
+#[test]
+fn free_running_steps_equal_fresh_solves_f32() {
+    let mut rng = Rng::new(72);
+    let mut worst = 0.0f64;
+    for case in 0..40 {
+        let j = [
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+            if case % 4 == 0 {
+                0.0
+            } else {
+                rng.range(0.0, 1.0)
+            },
+        ];
+        let body = Body::<f32>::from_mass_matrix(j.map(|x| x as f32)).unwrap();
+        let m0 = rng.direction().map(|x| x * rng.range(0.1, 10.0));
+        let w = norm(
+            Body::<f64>::from_mass_matrix(j)
+                .unwrap()
+                .angular_velocity(&m0),
+        );
+        let h = (rng.range(1e-4, 3e-2) / w) as f32;
+        let mut mv = Mv::new(body, h);
+        let mut s = State::new(m0.map(|x| x as f32), [1.0, 0.0, 0.0, 0.0]);
+        for _ in 0..300 {
+            let mut fresh = s;
+            Mv::new(body, h).step_state(&mut fresh).unwrap();
+            mv.step_state(&mut s).unwrap();
+            let (a, b) = (s.m.map(f64::from), fresh.m.map(f64::from));
+            worst = worst.max(dist(a, b) / norm(a));
+        }
+    }
+    eprintln!("worst one-step difference (f32) {worst:e}");
+    assert!(
+        worst < 8.0 * f32::EPSILON as f64,
+        "worst one-step difference {worst:e}"
+    );
+}
