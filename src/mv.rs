@@ -369,7 +369,13 @@ impl<T: Real> Anchor<T> {
         self.alpha = if ok { alpha } else { T::ZERO };
         self.beta = if ok { beta } else { T::ZERO };
         self.beta_tol = c::<T>(16.0) * T::EPSILON * self.beta;
-        self.half_inv = T::ZERO;
+        // formed here, not by the next step: the division then runs beside the step's chain
+        // instead of in it (a jittering clock rescales before every step)
+        self.half_inv = if self.alpha > T::ZERO {
+            c::<T>(0.5) / self.alpha
+        } else {
+            T::ZERO
+        };
     }
 }
 
