@@ -158,13 +158,7 @@ pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>),
 /// conservation of `R(q) m` to about `2e-4` over `10^6` steps; this form halves that twice.
 /// No square root.
 pub(crate) fn compose_attitude<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
-    let d = Quat {
-        w: dq.w - T::ONE,
-        x: dq.x,
-        y: dq.y,
-        z: dq.z,
-    };
-    let inc = q.mul(d);
+    let inc = turn_increment(q, dq);
     let half = T::from_f64(0.5);
     // |q + inc|^2 = |q|^2 + 2 q.inc + |inc|^2
     let q_inc = q.w * inc.w + q.x * inc.x + q.y * inc.y + q.z * inc.z;
@@ -175,6 +169,34 @@ pub(crate) fn compose_attitude<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
         y: q.y + (inc.y + nu * q.y),
         z: q.z + (inc.z + nu * q.z),
     }
+}
+
+/// `q (x) dq` as `q + q (x) (dq - 1)`: [`compose_attitude`] without its pull back to unit
+/// length, for the steps of `Mv` between two full attitude steps (`HOLD_PERIOD` in
+/// crate::mv). `|dq| = 1` to an ulp, so `|q|` moves by about an ulp a step, and the next full
+/// step's first-order renormalisation takes it back (it converges quadratically from any
+/// `| |q| - 1 |` below `1e-3`).
+#[inline(always)]
+pub(crate) fn compose_unrenormalised<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
+    let inc = turn_increment(q, dq);
+    Quat {
+        w: q.w + inc.w,
+        x: q.x + inc.x,
+        y: q.y + inc.y,
+        z: q.z + inc.z,
+    }
+}
+
+/// `q (x) (dq - 1)`: the small change a turn `dq` near the identity makes to `q`, with
+/// relative rounding only.
+#[inline(always)]
+fn turn_increment<T: Real>(q: Quat<T>, dq: Quat<T>) -> Quat<T> {
+    q.mul(Quat {
+        w: dq.w - T::ONE,
+        x: dq.x,
+        y: dq.y,
+        z: dq.z,
+    })
 }
 
 /// Writes a momentum step's result if it is finite (`Overflow` otherwise, and `m` is left as

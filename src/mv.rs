@@ -44,7 +44,8 @@ use crate::body::Body;
 use crate::cubic::quartic_largest_root;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, write_state, Integrator, State,
+    checked_momentum, checked_state, compose_attitude, compose_unrenormalised, write_state,
+    Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv_frozen::FrozenMap;
@@ -110,8 +111,8 @@ struct Track<T> {
     d13: T,
     d23: T,
     /// `delta` is small enough (`h |Omega|` small) that a free-running step keeps it as it
-    /// is: see [`Mv::system`].
-    frozen: bool,
+    /// is and runs the rational map: see [`Mv::system`] and [`Mv::advance_frozen`].
+    may_freeze: bool,
 }
 
 impl<T: Real> Track<T> {
@@ -140,7 +141,7 @@ impl<T: Real> Track<T> {
             d12: T::ZERO,
             d13: T::ZERO,
             d23: T::ZERO,
-            frozen: false,
+            may_freeze: false,
         }
     }
 
@@ -308,17 +309,19 @@ struct Spatial<T> {
 impl<T: Real> Anchor<T> {
     /// The anchor for momentum `m` with invariants `alpha`, `beta` in scaled units.
     #[inline]
-    fn take(m: Vec3<T>, k: &Coefficients<T>, hn: T) -> Self {
-        Self {
+    fn take(m: Vec3<T>, k: Invariants<T>, hn: T) -> Self {
+        let mut a = Self {
             last: m,
-            alpha: k.sum_a,
-            beta: k.beta,
-            beta_tol: c::<T>(16.0) * T::EPSILON * k.beta,
+            alpha: T::ZERO,
+            beta: T::ZERO,
+            beta_tol: T::ZERO,
             half_inv: T::ZERO,
-            hn2: sq(hn),
-            taken: (k.sum_a, k.beta),
+            hn2: T::ZERO,
+            taken: (T::ZERO, T::ZERO),
             spatial: None,
-        }
+        };
+        a.retake(m, k, hn);
+        a
     }
 
     /// [`Anchor::take`] in place, keeping the spatial reference.
@@ -738,7 +741,7 @@ impl<T: Real> Mv<T> {
         if !free_running && !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
         }
-        if free_running && t.frozen {
+        if free_running && t.may_freeze {
             // the input is on the anchored invariants (each step moves it back onto them),
             // and delta was solved for those: nothing to update
             return Ok((k, resynced));
@@ -799,7 +802,7 @@ impl<T: Real> Mv<T> {
                 // step on the M4F in a loop that changes m every tick)
                 match self.anchor.as_mut() {
                     Some(a) => a.retake(m, k.invariants(), t.hn),
-                    None => self.anchor = Some(Anchor::take(m, &k, t.hn)),
+                    None => self.anchor = Some(Anchor::take(m, k.invariants(), t.hn)),
                 }
                 None
             }
@@ -841,7 +844,7 @@ impl<T: Real> Mv<T> {
     #[inline(always)]
     fn advance_frozen(&mut self, m: Vec3<T>) -> Option<Advanced<T>> {
         let t = self.track.as_ref()?;
-        if !t.frozen {
+        if !t.may_freeze {
             return None;
         }
         let a = self.anchor.as_mut()?;
@@ -999,14 +1002,11 @@ impl<T: Real> Track<T> {
 
     #[inline(always)]
     fn coefficients(&self, m: Vec3<T>) -> Coefficients<T> {
-        let mm = m.scale(self.hn);
-        let a = mm.mul_elem(mm);
-        let sum_a = a.x + a.y + a.z;
-        let beta = a.dot(self.j2);
+        let Invariants { a, sum_a, beta } = self.invariants(m);
         Coefficients {
             big_a: self.sum_j2 - sum_a,
             big_b: self.pair_j2 - beta,
-            mm,
+            mm: m.scale(self.hn),
             a,
             sum_a,
             beta,
@@ -1096,7 +1096,7 @@ impl<T: Real> Track<T> {
     #[inline]
     fn set_delta(&mut self, delta: T) {
         self.delta = delta;
-        self.frozen = delta.abs() <= c::<T>(FROZEN_BELOW) * self.s0;
+        self.may_freeze = delta.abs() <= c::<T>(FROZEN_BELOW) * self.s0;
     }
 
     /// `g(delta)` and `g'(delta)`.
@@ -1104,26 +1104,6 @@ impl<T: Real> Track<T> {
         let (g, eps_u) = self.g_only(delta, k);
         let dg = (self.two_u0 + eps_u + eps_u) * (self.two_s0 + delta + delta) - self.s3x8;
         (g, dg)
-    }
-}
-
-/// `q (x) p` as `q + q (x) (p - 1)`: [`compose_attitude`] without its pull back to unit
-/// length, for the steps between two full ones ([`HOLD_PERIOD`]). `|p| = 1` to an ulp, so
-/// `|q|` moves by about an ulp a step, and the next full step's first-order renormalisation
-/// takes it back (it converges quadratically from any `| |q| - 1 |` below `1e-3`).
-#[inline(always)]
-fn compose_unrenormalised<T: Real>(q: Quat<T>, p: Quat<T>) -> Quat<T> {
-    let inc = q.mul(Quat {
-        w: p.w - T::ONE,
-        x: p.x,
-        y: p.y,
-        z: p.z,
-    });
-    Quat {
-        w: q.w + inc.w,
-        x: q.x + inc.x,
-        y: q.y + inc.y,
-        z: q.z + inc.z,
     }
 }
 
@@ -1190,7 +1170,6 @@ impl<T: Real> Integrator<T> for Mv<T> {
                 let r = h / old;
                 t.hn = hn;
                 t.delta *= sq(r);
-                self.frozen = None;
                 if let Some(a) = self.anchor.as_mut() {
                     a.rescale(hn);
                 }
