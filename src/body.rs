@@ -38,6 +38,15 @@ impl<T: Real> Body<T> {
         if !(i1 > T::ZERO && i2 > T::ZERO && i3 > T::ZERO) {
             return Err(BodyError::NonPositiveMoment);
         }
+        Self::from_positive_inertia(inertia)
+    }
+
+    /// [`Body::from_inertia`] for moments already known finite and positive (a `PreMv`'s
+    /// modified moments, on the loop's path after every outside change): the triangle
+    /// inequality is still checked, with the same tolerance and snapping.
+    #[inline]
+    pub(crate) fn from_positive_inertia(inertia: [T; 3]) -> Result<Self, BodyError> {
+        let [i1, i2, i3] = inertia;
         let half = c::<T>(0.5);
         // (i2 + i3) can overflow only above MAX / 2; halve first.
         let j1 = i2 * half + i3 * half - i1 * half;

@@ -103,6 +103,21 @@ fn unrotate<T: Real>(p: Quat<T>, m: Vec3<T>) -> Vec3<T> {
     p.inverse_rotate(m)
 }
 
+/// `m + d`, and the part of `d` the rounded sum lost (Fast2Sum per component: exact when
+/// `|m_i| >= |d_i|`, and otherwise below an ulp of `d_i`, which does not matter).
+///
+/// Why: a kick `tau h / 2` is often below half an ulp of `m` in f32 (a gravity-gradient torque
+/// of `2e-4 N m` at 200 Hz on a momentum of 10 N m s is a tenth of an ulp), so `m + d` rounds
+/// it away or up to a whole ulp, every step the same way: measured on a sphere under a
+/// constant body torque (where `m(t) = m0 + tau t` exactly), f32 applied the torque with a
+/// 22 % error, 47 % after `10^6` steps. The lost part is added to the next kick, so over any
+/// number of steps the applied torque is exact to an ulp of `m` (tests/forced.rs).
+#[inline(always)]
+fn kick<T: Real>(m: Vec3<T>, d: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
+    let sum = m.add(d);
+    (sum, d.sub(sum.sub(m)))
+}
+
 /// What the forced step needs besides the drift.
 #[derive(Clone, Copy, Debug)]
 struct Forcing<T, F> {
@@ -115,6 +130,10 @@ struct Forcing<T, F> {
     last: Option<LastKick<T>>,
     /// Without torque, `|m|^2` of the trajectory: `(last momentum returned, |m|^2, 1/(2|m|^2))`.
     casimir: Option<(Vec3<T>, T, T)>,
+    /// The part of the kicks the rounding of the momentum lost, added to the next kick
+    /// ([`kick`]). Kept when the caller changes `m` (a filter's correction): it is torque
+    /// impulse that acted, below an ulp of `m`; dropped by `reset`.
+    lost: Vec3<T>,
 }
 
 impl<T: Real, F: Torque<T>> Forcing<T, F> {
@@ -159,6 +178,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
             },
             last: None,
             casimir: None,
+            lost: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
         }
     }
 
@@ -219,11 +239,12 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
     m: Vec3<T>,
     q: Quat<T>,
     tau0: Vec3<T>,
+    lost: &mut Vec3<T>,
 ) -> Result<Kicked<T>, StepError> {
     let half = h * c::<T>(0.5);
     // a non-finite m, q or tau0 makes the drift's input non-finite, and the drift refuses it
     // (NonFinite): no checks of their own on the loop's path
-    let mut m = m.add(tau0.scale(half));
+    let (mut m, lost0) = kick(m, tau0.scale(half).add(*lost));
     let mut q = q;
     if let Some(p) = turn {
         m = unrotate(p, m);
@@ -238,7 +259,8 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
         q = compose_attitude(q, p);
     }
     let tau1 = Vec3::from_array(torque.torque(t1, &q.to_array()));
-    let m = m.add(tau1.scale(half));
+    let (m, lost1) = kick(m, tau1.scale(half).add(lost0));
+    *lost = lost1;
     if !m.is_finite() {
         return Err(if tau1.is_finite() {
             StepError::Overflow
@@ -250,6 +272,7 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
 }
 
 /// The same step for momentum only (the torque does not depend on the attitude).
+#[allow(clippy::too_many_arguments)]
 #[inline]
 fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
     drift: &mut D,
@@ -259,6 +282,7 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
     t0: T,
     t1: T,
     m: Vec3<T>,
+    lost: &mut Vec3<T>,
 ) -> Result<Vec3<T>, StepError> {
     let id = [T::ONE, T::ZERO, T::ZERO, T::ZERO];
     let half = h * c::<T>(0.5);
@@ -267,7 +291,7 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
     if !(tau0.is_finite() && tau1.is_finite()) {
         return Err(StepError::NonFinite);
     }
-    let mut m = m.add(tau0.scale(half));
+    let (mut m, lost0) = kick(m, tau0.scale(half).add(*lost));
     if let Some(p) = turn {
         m = unrotate(p, m);
     }
@@ -277,7 +301,8 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
     if let Some(p) = turn {
         m = unrotate(p, m);
     }
-    let m = m.add(tau1.scale(half));
+    let (m, lost1) = kick(m, tau1.scale(half).add(lost0));
+    *lost = lost1;
     if m.is_finite() {
         Ok(m)
     } else {
@@ -406,7 +431,19 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         let tau0 = Vec3::from_array(tau_start);
         let h = self.drift.step_size();
         let given = crate::torque::ConstantTorque(tau_end);
-        let (m, q, _) = kdk(&mut self.drift, &given, self.turn, h, T::ZERO, m, q, tau0)?;
+        let mut lost = self.forcing.lost;
+        let (m, q, _) = kdk(
+            &mut self.drift,
+            &given,
+            self.turn,
+            h,
+            T::ZERO,
+            m,
+            q,
+            tau0,
+            &mut lost,
+        )?;
+        self.forcing.lost = lost;
         s.m = m.to_array();
         s.q = q.to_array();
         self.forcing.clock = self.forcing.clock.after(h);
@@ -426,6 +463,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let h = self.drift.step_size();
         let t0 = self.forcing.clock.t;
         let clock = self.forcing.clock.after(h);
+        let mut lost = self.forcing.lost;
         let next = kdk_momentum(
             &mut self.drift,
             &self.forcing.torque,
@@ -434,12 +472,14 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
             t0,
             clock.t,
             v,
+            &mut lost,
         )?;
         let next = if self.turn.is_some() {
             self.forcing.hold_casimir(v, next)
         } else {
             next
         };
+        self.forcing.lost = lost;
         *m = next.to_array();
         self.forcing.clock = clock;
         Ok(())
@@ -450,6 +490,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let h = self.drift.step_size();
         let tau0 = self.forcing.torque_at(self.forcing.clock.t, q)?;
         let clock = self.forcing.clock.after(h);
+        let mut lost = self.forcing.lost;
         let (m, q, tau1) = kdk(
             &mut self.drift,
             &self.forcing.torque,
@@ -459,12 +500,14 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
             m0,
             q,
             tau0,
+            &mut lost,
         )?;
         let m = if self.turn.is_some() {
             self.forcing.hold_casimir(m0, m)
         } else {
             m
         };
+        self.forcing.lost = lost;
         s.m = m.to_array();
         s.q = q.to_array();
         self.forcing.clock = clock;
@@ -492,6 +535,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
     fn reset(&mut self) {
         self.drift.reset();
         self.forcing.last = None;
+        self.forcing.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
     }
 }
 
@@ -665,17 +709,28 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let v0 = checked_momentum(m)?;
         let mut v = v0;
         let mut clock = self.forcing.clock;
+        let mut lost = self.forcing.lost;
         let h = self.h;
         for &i in self.pattern {
             let start = clock.t;
             let (d, g, turn) = stage(&mut self.stages, &self.gamma, &self.turns, i);
             let hi = g * h;
             clock = clock.after(hi);
-            v = kdk_momentum(d, &self.forcing.torque, turn, hi, start, clock.t, v)?;
+            v = kdk_momentum(
+                d,
+                &self.forcing.torque,
+                turn,
+                hi,
+                start,
+                clock.t,
+                v,
+                &mut lost,
+            )?;
         }
         if self.turns[0].is_some() {
             v = self.forcing.hold_casimir(v0, v);
         }
+        self.forcing.lost = lost;
         *m = v.to_array();
         self.forcing.clock = clock;
         Ok(())
@@ -686,16 +741,28 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let mut m = m0;
         let mut clock = self.forcing.clock;
         let mut tau = self.forcing.torque_at(clock.t, q)?;
+        let mut lost = self.forcing.lost;
         let h = self.h;
         for &i in self.pattern {
             let (d, g, turn) = stage(&mut self.stages, &self.gamma, &self.turns, i);
             let hi = g * h;
             clock = clock.after(hi);
-            (m, q, tau) = kdk(d, &self.forcing.torque, turn, hi, clock.t, m, q, tau)?;
+            (m, q, tau) = kdk(
+                d,
+                &self.forcing.torque,
+                turn,
+                hi,
+                clock.t,
+                m,
+                q,
+                tau,
+                &mut lost,
+            )?;
         }
         if self.turns[0].is_some() {
             m = self.forcing.hold_casimir(m0, m);
         }
+        self.forcing.lost = lost;
         s.m = m.to_array();
         s.q = q.to_array();
         self.forcing.clock = clock;
@@ -728,5 +795,6 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             d.reset();
         }
         self.forcing.last = None;
+        self.forcing.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
     }
 }

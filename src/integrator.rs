@@ -136,11 +136,13 @@ pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>),
     }
     let q = Quat::from_array(s.q);
     let n2 = q.norm2();
-    if !(n2 > T::ZERO) || !n2.is_finite() {
-        return Err(StepError::NonFinite);
-    }
+    // first: it fails for a NaN or infinite |q|^2, so the loop's state passes with one
+    // comparison (the two tests below cost about 20 instructions a step on the M4F)
     if (n2 - T::ONE).abs() <= T::from_f64(1.0 / 1024.0) {
         return Ok((m, q));
+    }
+    if !(n2 > T::ZERO) || !n2.is_finite() {
+        return Err(StepError::NonFinite);
     }
     let (q, ok) = q.normalize();
     if !ok {
@@ -217,6 +219,22 @@ pub(crate) fn write_state<T: Real>(
     q: Quat<T>,
 ) -> Result<(), StepError> {
     if !(m.is_finite() && q.is_finite()) {
+        return Err(StepError::Overflow);
+    }
+    s.m = m.to_array();
+    s.q = q.to_array();
+    Ok(())
+}
+
+/// [`write_state`] for a step whose momentum `m` is known finite (the step checked it): only
+/// the attitude is checked.
+#[inline(always)]
+pub(crate) fn write_state_stepped<T: Real>(
+    s: &mut State<T>,
+    m: Vec3<T>,
+    q: Quat<T>,
+) -> Result<(), StepError> {
+    if !q.is_finite() {
         return Err(StepError::Overflow);
     }
     s.m = m.to_array();

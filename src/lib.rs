@@ -88,7 +88,8 @@
 //! assert_eq!(m, s0.m);
 //! ```
 #![no_std]
-#![forbid(unsafe_code)]
+// One `asm!` (src/fpu_sqrt.rs, the FPU's square root on hard-float ARM) is the only unsafe code.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 // `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -100,6 +101,8 @@ mod error;
 mod exact;
 mod forced;
 mod forced_rk4;
+#[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+mod fpu_sqrt;
 mod frame;
 mod integrator;
 #[cfg(any(feature = "mint", feature = "micromath"))]

@@ -44,7 +44,7 @@ use crate::body::Body;
 use crate::cubic::quartic_largest_root;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, compose_unrenormalised, write_state,
+    checked_momentum, checked_state, compose_attitude, compose_unrenormalised, write_state_stepped,
     Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
@@ -104,12 +104,6 @@ struct Track<T> {
     newton_tol: T,
     /// `2 sqrt(eps)`.
     tol_unit: T,
-    /// `j_i^4`, and `(j_i^2 - j_k^2)^2` for the pairs (1,2), (1,3), (2,3): the Gram
-    /// determinant of the invariants' gradients without cancellation.
-    j4: Vec3<T>,
-    d12: T,
-    d13: T,
-    d23: T,
     /// `delta` is small enough (`h |Omega|` small) that a free-running step keeps it as it
     /// is and runs the rational map: see [`Mv::system`] and [`Mv::advance_frozen`].
     may_freeze: bool,
@@ -137,10 +131,6 @@ impl<T: Real> Track<T> {
             inv_dg: T::ZERO,
             newton_tol: T::ZERO,
             tol_unit: T::ZERO,
-            j4: z,
-            d12: T::ZERO,
-            d13: T::ZERO,
-            d23: T::ZERO,
             may_freeze: false,
         }
     }
@@ -173,10 +163,6 @@ impl<T: Real> Track<T> {
         self.two_s0 = s0 + s0;
         self.two_u0 = c::<T>(4.0) * s2_0;
         self.newton_tol = self.tol_unit * s0;
-        self.j4 = j2.mul_elem(j2);
-        self.d12 = sq(j2.x - j2.y);
-        self.d13 = sq(j2.x - j2.z);
-        self.d23 = sq(j2.y - j2.z);
     }
 }
 
@@ -281,8 +267,12 @@ struct Anchor<T> {
 #[inline(never)]
 fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> Option<(T, T)> {
     let a = k.a;
-    let det = a.x * a.y * t.d12 + a.x * a.z * t.d13 + a.y * a.z * t.d23;
-    let gamma = a.dot(t.j4);
+    let j2 = t.j2;
+    // formed here, out of line, not kept in the Track: a PreMv updates its body after every
+    // outside change, and only this cold path needs them
+    let (d12, d13, d23) = (sq(j2.x - j2.y), sq(j2.x - j2.z), sq(j2.y - j2.z));
+    let det = a.x * a.y * d12 + a.x * a.z * d13 + a.y * a.z * d23;
+    let gamma = a.dot(j2.mul_elem(j2));
     if det > c::<T>(1e-3) * k.sum_a * gamma {
         let inv = c::<T>(0.5) / det;
         Some((
@@ -534,9 +524,10 @@ impl<T: Real> Mv<T> {
         held
     }
 
-    /// Whether `q` is the attitude this integrator returned last, and whether `(m, q)` is the
-    /// state it returned last; decided before the step moves the anchor on (a flag, not a
-    /// copy: see `system`).
+    /// Whether `q` is the attitude this integrator returned last, and whether `m` is the
+    /// momentum it returned last; decided before the step moves the anchor on (a flag, not a
+    /// copy: see `system`), once for the step (comparing again in `advance` cost about 15
+    /// instructions a step on the M4F).
     #[inline(always)]
     fn follows_state(&self, m: Vec3<T>, q: Quat<T>) -> (bool, bool) {
         match &self.anchor {
@@ -544,8 +535,9 @@ impl<T: Real> Mv<T> {
                 last,
                 spatial: Some(sp),
                 ..
-            }) if sp.last_q == q => (true, *last == m),
-            _ => (false, false),
+            }) => (sp.last_q == q, *last == m),
+            Some(a) => (false, a.last == m),
+            None => (false, false),
         }
     }
 
@@ -554,7 +546,7 @@ impl<T: Real> Mv<T> {
     #[inline(always)]
     fn turn_attitude(
         &mut self,
-        (ours, follows): (bool, bool),
+        (ours, m_ours): (bool, bool),
         m: Vec3<T>,
         q: Quat<T>,
         next: Vec3<T>,
@@ -566,7 +558,7 @@ impl<T: Real> Mv<T> {
         } else {
             compose_unrenormalised(q, p)
         };
-        self.hold_spatial(follows, full, m, q, next, q_next)
+        self.hold_spatial(ours && m_ours, full, m, q, next, q_next)
     }
 
     /// Counts a successful step with attitude towards the next full one.
@@ -587,11 +579,11 @@ impl<T: Real> Mv<T> {
     pub(crate) fn step_state_rotation(&mut self, s: &mut State<T>) -> Result<Quat<T>, StepError> {
         let (v, q) = checked_state(s)?;
         let follows = self.follows_state(v, q);
-        let step = self.advance(v)?;
+        let step = self.advance(v, follows.1)?;
         let next = step.next;
         let p = self.rotation_between(v, next, step.increment);
         let held = self.turn_attitude(follows, v, q, next, p);
-        write_state(s, next, held)?;
+        write_state_stepped(s, next, held)?;
         self.count_attitude_step();
         Ok(p)
     }
@@ -605,11 +597,14 @@ impl<T: Real> Mv<T> {
     /// returned last onto the trajectory's invariants (PreMv on a change of `h` alone): the
     /// trajectory goes on, so its spatial momentum is still held. `None` when the momentum
     /// itself changed.
-    pub(crate) fn set_body(&mut self, body: Body<T>, from: Option<[T; 3]>) {
+    ///
+    /// `inv_i` is `1 / I` of the new body (the caller has it: no division here).
+    pub(crate) fn set_body(&mut self, body: Body<T>, inv_i: Vec3<T>, from: Option<[T; 3]>) {
         let j = body.mass_matrix_vec();
-        let (new, old) = (j.max_abs(), self.body.mass_matrix_vec().max_abs());
+        // J_i >= 0: the largest entry is the largest magnitude
+        let (new, old) = (j.x.max(j.y).max(j.z), self.track_scale_reference());
         self.body = body;
-        self.inv_i = body.inverse_inertia();
+        self.inv_i = inv_i;
         self.recheck = true;
         // the anchored beta depends on J: taken again at the next step
         self.retake = true;
@@ -623,6 +618,13 @@ impl<T: Real> Mv<T> {
             }
             _ => self.track = None,
         }
+    }
+
+    /// The largest entry of the current mass matrix (`J_i >= 0`).
+    #[inline(always)]
+    fn track_scale_reference(&self) -> T {
+        let j = self.body.mass_matrix_vec();
+        j.x.max(j.y).max(j.z)
     }
 
     /// The largest `|h|` for which the DMV step from `m` exists (the cubic of docs/MATH.md §2
@@ -761,7 +763,8 @@ impl<T: Real> Mv<T> {
         Ok((k, resynced))
     }
 
-    /// One momentum step; returns the new momentum and, for `step_state`, `X^T`.
+    /// One momentum step from `m` (`follows`: `m` is the momentum returned last, so the
+    /// trajectory goes on); returns the new momentum and the DMV part of its increment.
     ///
     /// With `D = diag(s1 J + s3 J^-1)`, the map is `m' = (D + J M) y`, `L^T y = m`. At `h = 0`,
     /// `D = L^T`, so `D + J M = L^T + Delta` with `Delta` small, and the step is computed as
@@ -772,8 +775,7 @@ impl<T: Real> Mv<T> {
     /// [`Track::invariant_fix`]) the
     /// increment itself, from which the attitude's turn is read ([`Mv::rotation_between`]).
     #[inline(always)]
-    fn advance(&mut self, m: Vec3<T>) -> Result<Advanced<T>, StepError> {
-        let follows = matches!(&self.anchor, Some(a) if a.last == m);
+    fn advance(&mut self, m: Vec3<T>, follows: bool) -> Result<Advanced<T>, StepError> {
         if follows && !self.recheck && !self.retake {
             if let Some(step) = self.advance_frozen(m) {
                 return Ok(step);
@@ -807,7 +809,6 @@ impl<T: Real> Mv<T> {
                 None
             }
         };
-        let sys = t.transposed_system(&k);
         // the correction is tiny: it goes into the increment, never into a product with m
         // (m * (1 + eps) rounds each component on its own and turns m by a biased ulp); the
         // m part is folded into the solve, the j^2 m part added after it (its rotation by the
@@ -816,9 +817,9 @@ impl<T: Real> Mv<T> {
             Some((corr, _)) => corr + T::ONE,
             None => T::ONE,
         };
+        let sys = t.transposed_system(&k);
         let y = solve_cramer(&sys.lt, m, scale)?;
-        let delta_m = t.increment_matrix(&sys);
-        let increment = delta_m.mul_vec(y);
+        let increment = t.increment_matrix(&sys).mul_vec(y);
         let next = match correction {
             Some((corr, corr_v)) => m.add(increment.add(t.invariant_fix(m, corr, corr_v))),
             // a re-taken anchor has nothing to correct
@@ -1135,7 +1136,8 @@ fn discriminant<T: Real>(a: T, b: T, cc: T) -> T {
 impl<T: Real> Integrator<T> for Mv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let v = checked_momentum(m)?;
-        let next = self.advance(v)?.next;
+        let follows = matches!(&self.anchor, Some(a) if a.last == v);
+        let next = self.advance(v, follows)?.next;
         *m = next.to_array();
         Ok(())
     }
@@ -1143,11 +1145,11 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
         let follows = self.follows_state(v, q);
-        let step = self.advance(v)?;
+        let step = self.advance(v, follows.1)?;
         let next = step.next;
         let p = self.rotation_between(v, next, step.increment);
         let held = self.turn_attitude(follows, v, q, next, p);
-        write_state(s, next, held)?;
+        write_state_stepped(s, next, held)?;
         self.count_attitude_step();
         Ok(())
     }

@@ -16,7 +16,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, Integrator, State};
+use crate::integrator::{Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv::Mv;
 use crate::real::{c, sq, Real};
@@ -147,10 +147,8 @@ impl<T: Real> PreMv<T> {
         let [a0, a1, a2] = self.modifier.inv_i;
         let [m0, m1, m2] = *m;
         let (q0, q1, q2) = (sq(m0), sq(m1), sq(m2));
-        let (v0, v1, v2) = (a0 * m0, a1 * m1, a2 * m2);
         let cas = q0 + q1 + q2;
         let e = a0 * q0 + a1 * q1 + a2 * q2;
-        let g = sq(v0) + sq(v1) + sq(v2);
         let half = c::<T>(0.5);
         let (dc, de) = ((c0 - cas) * half, (e0 - e) * half);
         // within 8 eps of both there is nothing worth a division: the drift stays bounded
@@ -159,6 +157,8 @@ impl<T: Real> PreMv<T> {
         if !(cas > T::ZERO) || (dc.abs() <= tol * c0 && de.abs() <= tol * e0) {
             return *m;
         }
+        let (v0, v1, v2) = (a0 * m0, a1 * m1, a2 * m2);
+        let g = sq(v0) + sq(v1) + sq(v2);
         let det = q0 * q1 * sq(a0 - a1) + q0 * q2 * sq(a0 - a2) + q1 * q2 * sq(a1 - a2);
         let (x, y) = if det > c::<T>(1e-3) * cas * g {
             let inv = T::ONE / det;
@@ -182,16 +182,16 @@ impl<T: Real> PreMv<T> {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
-        checked_momentum(m)?;
         if !self.h.is_finite() {
             return Err(StepError::NonFinite);
         }
-        let inertia = self.modifier.modified_inertia(self.h, m)?;
-        let body = Body::from_inertia(inertia).map_err(|_| StepError::StepTooLarge)?;
+        // m is checked by the modifier (a non-finite m gives NonFinite there)
+        let (inertia, inv) = self.modifier.modified(self.h, m)?;
+        let body = Body::from_positive_inertia(inertia).map_err(|_| StepError::StepTooLarge)?;
         if self.mv.step_size() != self.h {
             self.mv.set_step_size(self.h);
         }
-        self.mv.set_body(body, from);
+        self.mv.set_body(body, Vec3::from_array(inv), from);
         Ok(())
     }
 }
@@ -374,16 +374,30 @@ impl<T: Real> Modifier<T> {
 
     /// `I~` for step `h` and momentum `m`: `1 / I~_j = (1 / I_j)(1 + s) + d` (docs/MATH.md §5).
     fn modified_inertia(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
+        self.modified(h, m).map(|(inertia, _)| inertia)
+    }
+
+    /// `I~` and `1 / I~` for step `h` and momentum `m` (the inverse is what the series gives;
+    /// the moments cost one division, [`reciprocals`]). `NonFinite` for a non-finite `m`.
+    #[inline]
+    fn modified(&self, h: T, m: &[T; 3]) -> Result<([T; 3], [T; 3]), StepError> {
         let [a1, a2, a3] = self.inv_i;
         if self.order <= 2 {
-            return Ok([T::ONE / a1, T::ONE / a2, T::ONE / a3]);
+            if !(m[0].is_finite() && m[1].is_finite() && m[2].is_finite()) {
+                return Err(StepError::NonFinite);
+            }
+            return Ok(([T::ONE / a1, T::ONE / a2, T::ONE / a3], self.inv_i));
         }
         let h2 = sq(h);
         let (m1, m2, m3) = (sq(m[0]), sq(m[1]), sq(m[2]));
         let cc = h2 * (m1 + m2 + m3) * c::<T>(0.5);
         let hh = h2 * (m1 * a1 + m2 * a2 + m3 * a3) * c::<T>(0.5);
         if !(cc.is_finite() && hh.is_finite()) {
-            return Err(StepError::Overflow);
+            return Err(if m.iter().all(|x| x.is_finite()) {
+                StepError::Overflow
+            } else {
+                StepError::NonFinite
+            });
         }
         // the monomials C^a H^b with a + b = 1..order/2 - 1 only: an update after a change of
         // m or h is on the loop's path, and order 4 needs the first degree alone
@@ -412,8 +426,8 @@ impl<T: Real> Modifier<T> {
             return Err(StepError::StepTooLarge);
         }
         let out = reciprocals(inv);
-        if out.iter().all(|x| x.is_finite()) {
-            Ok(out)
+        if out[0].is_finite() && out[1].is_finite() && out[2].is_finite() {
+            Ok((out, inv))
         } else {
             Err(StepError::Overflow)
         }

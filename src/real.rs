@@ -2,7 +2,7 @@
 //!
 //! All arithmetic in the crate goes through [`Real`], so that the same code runs in `f32` and
 //! `f64`, and so that a wrapper type (the lab's flop counter) can observe every operation.
-//! This is the only file that calls `libm`.
+//! This is the only file that calls `libm` (and crate::fpu_sqrt the only unsafe code).
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -128,15 +128,12 @@ macro_rules! impl_real {
             }
             #[inline]
             fn sqrt(self) -> Self {
-                libm::$sqrt(self)
+                $sqrt(self)
             }
             #[inline]
             fn abs(self) -> Self {
-                if self < 0.0 {
-                    -self
-                } else {
-                    self
-                }
+                // core's: one VABS on an FPU (a comparison and a branch were four instructions)
+                <$t>::abs(self)
             }
             #[inline]
             fn sin(self) -> Self {
@@ -174,8 +171,30 @@ macro_rules! impl_real {
     };
 }
 
-impl_real!(f32, sqrtf, sinf, cosf, acosf, atan2f, cbrtf, logf, expf);
-impl_real!(f64, sqrt, sin, cos, acos, atan2, cbrt, log, exp);
+impl_real!(f32, sqrt_f32, sinf, cosf, acosf, atan2f, cbrtf, logf, expf);
+impl_real!(f64, sqrt_f64, sin, cos, acos, atan2, cbrt, log, exp);
+
+/// The correctly rounded `f32` square root: the FPU's instruction on hard-float ARM
+/// (crate::fpu_sqrt; libm computes it in software there), libm's elsewhere (an instruction on
+/// x86 and aarch64).
+#[inline]
+fn sqrt_f32(x: f32) -> f32 {
+    #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+    {
+        crate::fpu_sqrt::sqrtf(x)
+    }
+    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    {
+        libm::sqrtf(x)
+    }
+}
+
+/// The correctly rounded `f64` square root (libm; in software on an FPU without double
+/// precision such as the Cortex-M4F's).
+#[inline]
+fn sqrt_f64(x: f64) -> f64 {
+    libm::sqrt(x)
+}
 
 /// `x * x`.
 #[inline]

@@ -303,12 +303,17 @@ pub fn regimes<I: Integrator<f32> + Clone>(
         }
         _ => {
             let mut forced = Forced::new(a0, NoTorque);
-            let tau = [2e-4f32, -1e-4, 5e-5];
+            // a controller-sized torque (the flight's limit is 0.05 N m), its sign flipped
+            // every 64 steps to keep m bounded. Until this was measured with the profile
+            // (scripts/profile) it was 2e-4 N m flipped every step: a tenth of an ulp of m in
+            // f32, and one step's end kick cancelled the next one's start kick, so the drift
+            // saw its own output and ran its free path: not a kick at all.
+            let tau = [0.05f32, -0.03, 0.04];
             let neg = tau.map(|x| -x);
             let mut s = s0;
             let _ = forced.step_state(&mut s);
             per_step(empty, |k| {
-                let t = if k % 2 == 0 { tau } else { neg };
+                let t = if (k / 64).is_multiple_of(2) { tau } else { neg };
                 let _ = forced.step_state_with(core::hint::black_box(&mut s), t, t);
             })
         }
@@ -318,7 +323,8 @@ pub fn regimes<I: Integrator<f32> + Clone>(
 
 /// Forced `Mv` with a constant torque model (no rotor): the cost of the kicks alone.
 pub fn forced_constant(body: Body<f32>, s0: State<f32>, h: f32) -> u32 {
-    let mut held = Forced::new(Mv::new(body, h), ConstantTorque([1e-4f32, 0.0, -1e-4]));
+    // controller-sized (a torque below an ulp of m would leave the drift free running)
+    let mut held = Forced::new(Mv::new(body, h), ConstantTorque([0.05f32, 0.0, -0.05]));
     let mut s = s0;
     let _ = held.step_state(&mut s);
     per_step(0, |_| {
