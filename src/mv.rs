@@ -1162,16 +1162,15 @@ impl<T: Real> Integrator<T> for Mv<T> {
         let old = self.h;
         self.h = h;
         self.recheck = true;
-        let near = h.is_finite()
-            && old != T::ZERO
-            && h.abs() <= old.abs() * c::<T>(2.0)
-            && old.abs() <= h.abs() * c::<T>(2.0);
+        // the tracked root is kept within 2x of the old step: (h / old)^2 in [1/4, 4], false
+        // for a NaN or infinite h and for old = 0 (one division: the four comparisons of
+        // magnitudes it replaced cost more on the M4F)
+        let r2 = sq(h / old);
         match self.track.as_mut() {
-            Some(t) if near => {
+            Some(t) if r2 >= c::<T>(0.25) && r2 <= c::<T>(4.0) => {
                 let hn = t.scaled(h);
-                let r = h / old;
                 t.hn = hn;
-                t.delta *= sq(r);
+                t.delta *= r2;
                 if let Some(a) = self.anchor.as_mut() {
                     a.rescale(hn);
                 }
