@@ -2,7 +2,7 @@
 //! `PROFILE_STEPS` steps and exits, so that `scripts/profile` can run it under QEMU with one
 //! instruction per translation block and attribute every executed instruction to the (inlined)
 //! function it came from. The method and regime are chosen at build time
-//! (`PROFILE_METHOD=mv|pre-mv4|pre-mv10`, `PROFILE_REGIME=fixed|jitter|corrected|kick`), as in
+//! (`PROFILE_METHOD=mv|pre-mv4|pre-mv10`, `PROFILE_REGIME=fixed|jitter|corrected|kick`, or `momentum`: fixed `h`, no attitude), as in
 //! the firmware's regimes table (`bench.rs`): f32 with attitude, `h = 1/200`, a tumble of about
 //! 0.1 rad/s, `h` jittered by +-5 %, `m` corrected by 1e-4, a torque kick every step.
 #![cfg_attr(target_os = "none", no_std, no_main)]
@@ -70,6 +70,12 @@ mod firmware {
             return s.m[0] + s.q[0] + failed as f32 * 1000.0;
         }
         let _ = a.step_state(&mut s);
+        if REGIME.as_bytes()[0] == b'm' {
+            for _ in 0..STEPS {
+                let _ = a.step(core::hint::black_box(&mut s.m));
+            }
+            return s.m[0];
+        }
         for _ in 0..STEPS {
             match REGIME.as_bytes()[0] {
                 b'j' => a.set_step_size(h * (1.0 + 0.1 * (noise.uniform() - 0.5))),
