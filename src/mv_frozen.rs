@@ -193,9 +193,7 @@ mod tests {
                 core::array::from_fn(|r| (0..3).map(|k| big_delta[r][k] * y[k]).sum());
             let c0 = Vec3::new(d[0] - e, d[1] - e, d[2] - e);
             let map = FrozenMap::new(Vec3::new(j[0], j[1], j[2]), c0, s0, delta, hn, alpha);
-            let got = map
-                .increment(Vec3::new(m[0], m[1], m[2]), 1.0)
-                .to_array();
+            let got = map.increment(Vec3::new(m[0], m[1], m[2]), 1.0).to_array();
             let scale = want.iter().map(|x| x.abs()).fold(0.0, f64::max).max(1e-300);
             let cond = lt.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
             let err = (0..3).map(|i| (got[i] - want[i]).abs()).fold(0.0, f64::max) / scale;
