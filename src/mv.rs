@@ -620,6 +620,15 @@ impl<T: Real> Mv<T> {
         }
     }
 
+    /// Takes `m` as the momentum returned last: a `PreMv` moved that momentum back onto the
+    /// trajectory's invariants (a change of `h` alone) and its modified body did not change,
+    /// so the trajectory, its anchored invariants and its spatial momentum go on.
+    pub(crate) fn continue_from(&mut self, m: [T; 3]) {
+        if let Some(a) = self.anchor.as_mut() {
+            a.last = Vec3::from_array(m);
+        }
+    }
+
     /// The largest entry of the current mass matrix (`J_i >= 0`).
     #[inline(always)]
     fn track_scale_reference(&self) -> T {

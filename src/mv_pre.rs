@@ -55,6 +55,8 @@ pub struct PreMv<T> {
     invariants: Option<(T, T)>,
     /// The modified moments' polynomials for this body.
     modifier: Modifier<T>,
+    /// `1 / I~` of the modified body `mv` runs, once built.
+    modified_inv: Option<[T; 3]>,
 }
 
 impl<T: Real> PreMv<T> {
@@ -78,6 +80,7 @@ impl<T: Real> PreMv<T> {
             h_changed: false,
             invariants: None,
             modifier: Modifier::new(&body, order),
+            modified_inv: None,
         })
     }
 
@@ -187,11 +190,25 @@ impl<T: Real> PreMv<T> {
         }
         // m is checked by the modifier (a non-finite m gives NonFinite there)
         let (inertia, inv) = self.modifier.modified(self.h, m)?;
+        if self.modified_inv == Some(inv) {
+            // the modified body is the same to the last bit (a small change of m or h moves
+            // I~ by about (h |Omega|)^2 of its relative size: in f32 usually not at all), so
+            // the Mv goes on with its body and tracking and sees only the new m or h
+            if self.mv.step_size() != self.h {
+                self.mv.set_step_size(self.h);
+            }
+            if let Some(held) = from {
+                // the trajectory goes on from the held momentum (its spatial momentum too)
+                self.mv.continue_from(held);
+            }
+            return Ok(());
+        }
         let body = Body::from_positive_inertia(inertia).map_err(|_| StepError::StepTooLarge)?;
         if self.mv.step_size() != self.h {
             self.mv.set_step_size(self.h);
         }
         self.mv.set_body(body, Vec3::from_array(inv), from);
+        self.modified_inv = Some(inv);
         Ok(())
     }
 }
