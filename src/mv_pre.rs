@@ -132,6 +132,12 @@ impl<T: Real> PreMv<T> {
     #[cold]
     #[inline(never)]
     fn retime(&mut self, m: &[T; 3]) -> Result<[T; 3], StepError> {
+        if self.modified_inv == Some(self.modifier.modified_inverse(self.h, m)?) {
+            // the same modified body: the Mv's own change of h (its invariants rescaled and
+            // held) is all there is to do
+            self.mv.set_step_size(self.h);
+            return Ok(*m);
+        }
         let held = self.hold_invariants(m);
         self.rebuild(&held, Some(held))?;
         Ok(held)
@@ -189,7 +195,7 @@ impl<T: Real> PreMv<T> {
             return Err(StepError::NonFinite);
         }
         // m is checked by the modifier (a non-finite m gives NonFinite there)
-        let (inertia, inv) = self.modifier.modified(self.h, m)?;
+        let inv = self.modifier.modified_inverse(self.h, m)?;
         if self.modified_inv == Some(inv) {
             // the modified body is the same to the last bit (a small change of m or h moves
             // I~ by about (h |Omega|)^2 of its relative size: in f32 usually not at all), so
@@ -203,6 +209,7 @@ impl<T: Real> PreMv<T> {
             }
             return Ok(());
         }
+        let inertia = self.modifier.moments(inv)?;
         let body = Body::from_positive_inertia(inertia).map_err(|_| StepError::StepTooLarge)?;
         if self.mv.step_size() != self.h {
             self.mv.set_step_size(self.h);
@@ -398,12 +405,35 @@ impl<T: Real> Modifier<T> {
     /// the moments cost one division, [`reciprocals`]). `NonFinite` for a non-finite `m`.
     #[inline]
     fn modified(&self, h: T, m: &[T; 3]) -> Result<([T; 3], [T; 3]), StepError> {
+        let inv = self.modified_inverse(h, m)?;
+        Ok((self.moments(inv)?, inv))
+    }
+
+    /// `I~` from `1 / I~` ([`Modifier::modified_inverse`]).
+    #[inline]
+    fn moments(&self, inv: [T; 3]) -> Result<[T; 3], StepError> {
+        if self.order <= 2 {
+            let [a1, a2, a3] = self.inv_i;
+            return Ok([T::ONE / a1, T::ONE / a2, T::ONE / a3]);
+        }
+        let out = reciprocals(inv);
+        if out[0].is_finite() && out[1].is_finite() && out[2].is_finite() {
+            Ok(out)
+        } else {
+            Err(StepError::Overflow)
+        }
+    }
+
+    /// `1 / I~` for step `h` and momentum `m`: the series of docs/MATH.md §5, positive (else
+    /// `StepTooLarge`). `NonFinite` for a non-finite `m`.
+    #[inline]
+    fn modified_inverse(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
         let [a1, a2, a3] = self.inv_i;
         if self.order <= 2 {
             if !(m[0].is_finite() && m[1].is_finite() && m[2].is_finite()) {
                 return Err(StepError::NonFinite);
             }
-            return Ok(([T::ONE / a1, T::ONE / a2, T::ONE / a3], self.inv_i));
+            return Ok(self.inv_i);
         }
         let h2 = sq(h);
         let (m1, m2, m3) = (sq(m[0]), sq(m[1]), sq(m[2]));
@@ -442,12 +472,7 @@ impl<T: Real> Modifier<T> {
         if !(inv[0] > T::ZERO && inv[1] > T::ZERO && inv[2] > T::ZERO) {
             return Err(StepError::StepTooLarge);
         }
-        let out = reciprocals(inv);
-        if out[0].is_finite() && out[1].is_finite() && out[2].is_finite() {
-            Ok((out, inv))
-        } else {
-            Err(StepError::Overflow)
-        }
+        Ok(inv)
     }
 }
 
