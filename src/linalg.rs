@@ -67,7 +67,7 @@ impl<T: Real> Vec3<T> {
     }
     #[inline]
     pub fn is_finite(self) -> bool {
-        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+        self.x.all_finite3(self.y, self.z)
     }
 }
 
@@ -258,7 +258,7 @@ impl<T: Real> Quat<T> {
     }
     #[inline]
     pub fn is_finite(self) -> bool {
-        self.w.is_finite() && self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+        self.w.is_finite() && self.x.all_finite3(self.y, self.z)
     }
     #[inline]
     pub fn norm2(self) -> T {

@@ -76,6 +76,16 @@ pub trait Real:
     #[must_use]
     fn is_finite(self) -> bool;
 
+    /// True if none of `self`, `b`, `c` is NaN or infinite: a classification (a counting
+    /// wrapper need not count it). `f32` and `f64` test `(a - a) + (b - b) + (c - c) == 0`,
+    /// which is NaN, hence false, exactly when an input is NaN or infinite: one comparison
+    /// instead of three (on a Cortex-M4F about 8 instructions instead of 15).
+    #[inline]
+    #[must_use]
+    fn all_finite3(self, b: Self, c: Self) -> bool {
+        self.is_finite() && b.is_finite() && c.is_finite()
+    }
+
     /// The larger of two numbers; `self` if `other` is NaN.
     #[inline]
     #[must_use]
@@ -167,6 +177,11 @@ macro_rules! impl_real {
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
             }
+            #[inline]
+            fn all_finite3(self, b: Self, c: Self) -> bool {
+                // x - x is +0 for every finite x (round to nearest) and NaN otherwise
+                (self - self) + (b - b) + (c - c) == 0.0
+            }
         }
     };
 }
@@ -206,4 +221,64 @@ pub(crate) fn sq<T: Real>(x: T) -> T {
 #[inline]
 pub(crate) fn c<T: Real>(x: f64) -> T {
     T::from_f64(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-comparison finiteness test against three `is_finite` calls, on every triple of
+    /// special and ordinary values (NaN, infinities, signed zeros, subnormals, the extremes).
+    fn all_finite3_agrees<T: Real>(values: &[T]) {
+        for &a in values {
+            for &b in values {
+                for &c in values {
+                    let want = a.is_finite() && b.is_finite() && c.is_finite();
+                    assert_eq!(a.all_finite3(b, c), want, "{a:?} {b:?} {c:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn all_finite3_is_three_is_finite_tests() {
+        all_finite3_agrees(&[
+            0.0f32,
+            -0.0,
+            1.5,
+            -3.0e-41,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            -f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ]);
+        all_finite3_agrees(&[
+            0.0f64,
+            -0.0,
+            1.5,
+            -5.0e-320,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            -f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ]);
+    }
+
+    /// The FPU's square root is libm's, bit for bit (on hard-float ARM this runs on the target
+    /// only; on the host both sides are libm and the test checks the wrapper).
+    #[test]
+    fn sqrt_f32_is_correctly_rounded() {
+        let mut x = 1.0e-38f32;
+        while x < 1.0e38 {
+            assert_eq!(Real::sqrt(x).to_bits(), libm::sqrtf(x).to_bits());
+            // and against f64: the correctly rounded root of an f32 is the f64 root rounded
+            let wide = (x as f64).sqrt() as f32;
+            assert_eq!(Real::sqrt(x).to_bits(), wide.to_bits(), "{x}");
+            x *= 1.37;
+        }
+    }
 }

@@ -550,6 +550,21 @@ mod firmware {
         let dp = Real::sqrt(d3[0] * d3[0] + d3[1] * d3[1] + d3[2] * d3[2]) / Real::sqrt(c0);
         defmt::println!("mv f32, {=u32} steps with attitude: drift |m|^2 {=f64}, E {=f64}, R(q)m {=f64} (bound 1e-4)", DRIFT_STEPS, dc, de, dp);
 
+        // the FPU's square root (rigid3 uses VSQRT.F32 here) against the f64 root rounded to
+        // f32, which is the correctly rounded f32 root: bit for bit over 70 binades
+        let mut sqrt_mismatch = 0u32;
+        let mut x = 1.0e-30f32;
+        while x < 1.0e30 {
+            let wide = Real::sqrt(x as f64) as f32;
+            sqrt_mismatch += (Real::sqrt(x).to_bits() != wide.to_bits()) as u32;
+            x *= 1.0173;
+        }
+        defmt::println!(
+            "f32 sqrt (VSQRT.F32) against the rounded f64 root: {=u32} mismatches",
+            sqrt_mismatch
+        );
+        tables_ok &= sqrt_mismatch == 0;
+
         let stack = stack_used(bottom, top);
         defmt::println!("stack high-water mark: {=usize} bytes (painted stack); heap: none (no allocator is linked)", stack);
         defmt::println!(
