@@ -52,7 +52,7 @@ pub struct PreMv<T> {
     /// The trajectory's true invariants `(|m|^2, m . I^-1 m)`, taken when the momentum
     /// changed from outside: a change of `h` alone moves the momentum back onto them before
     /// the modified body is rebuilt, so a jittering clock does not let them random-walk.
-    invariants: Option<(T, T)>,
+    invariants: Invariants<T>,
     /// The modified moments' polynomials for this body.
     modifier: Modifier<T>,
     /// `1 / I~` of the modified body `mv` runs, once built.
@@ -78,7 +78,7 @@ impl<T: Real> PreMv<T> {
             mv: Mv::new(body, h),
             last: None,
             h_changed: false,
-            invariants: None,
+            invariants: Invariants::None,
             modifier: Modifier::new(&body, order),
             modified_inv: None,
         })
@@ -104,7 +104,7 @@ impl<T: Real> PreMv<T> {
     /// True while `m` is the momentum this integrator returned last (its modified body and
     /// tracking still apply).
     pub(crate) fn follows(&self, m: &[T; 3]) -> bool {
-        self.last == Some(*m)
+        matches!(&self.last, Some(l) if same3(l, m))
     }
 
     /// Makes `self.mv` the `Mv` of this trajectory: kept while `m` is the momentum returned
@@ -117,30 +117,29 @@ impl<T: Real> PreMv<T> {
             if !self.h_changed {
                 return Ok(None);
             }
-            return self.retime(m).map(Some);
+            return self.retime(m);
         }
         self.rebuild(m, None)?;
-        let a = self.modifier.inv_i;
-        self.invariants = Some((
-            sq(m[0]) + sq(m[1]) + sq(m[2]),
-            a[0] * sq(m[0]) + a[1] * sq(m[1]) + a[2] * sq(m[2]),
-        ));
+        // formed when a change of h first needs them (a loop that changes m every tick
+        // never does)
+        self.invariants = Invariants::Of(*m);
         Ok(None)
     }
 
     /// The update after a change of `h` alone: the trajectory goes on.
     #[cold]
     #[inline(never)]
-    fn retime(&mut self, m: &[T; 3]) -> Result<[T; 3], StepError> {
-        if self.modified_inv == Some(self.modifier.modified_inverse(self.h, m)?) {
+    fn retime(&mut self, m: &[T; 3]) -> Result<Option<[T; 3]>, StepError> {
+        let inv = self.modifier.modified_inverse(self.h, m)?;
+        if matches!(&self.modified_inv, Some(old) if same3(old, &inv)) {
             // the same modified body: the Mv's own change of h (its invariants rescaled and
             // held) is all there is to do
             self.mv.set_step_size(self.h);
-            return Ok(*m);
+            return Ok(None);
         }
         let held = self.hold_invariants(m);
         self.rebuild(&held, Some(held))?;
-        Ok(held)
+        Ok(Some(held))
     }
 
     /// `m` moved onto the trajectory's `|m|^2` and `m . I^-1 m` to first order (exact to
@@ -149,11 +148,20 @@ impl<T: Real> PreMv<T> {
     /// `sum_{i<k} m_i^2 m_k^2 (1/I_i - 1/I_k)^2` (no cancellation); where it is small (near a
     /// principal axis, or equal moments) only `|m|^2` is corrected.
     #[inline]
-    fn hold_invariants(&self, m: &[T; 3]) -> [T; 3] {
-        let Some((c0, e0)) = self.invariants else {
-            return *m;
-        };
+    fn hold_invariants(&mut self, m: &[T; 3]) -> [T; 3] {
         let [a0, a1, a2] = self.modifier.inv_i;
+        let (c0, e0) = match self.invariants {
+            Invariants::None => return *m,
+            Invariants::Taken(c0, e0) => (c0, e0),
+            Invariants::Of(x) => {
+                let (c0, e0) = (
+                    sq(x[0]) + sq(x[1]) + sq(x[2]),
+                    a0 * sq(x[0]) + a1 * sq(x[1]) + a2 * sq(x[2]),
+                );
+                self.invariants = Invariants::Taken(c0, e0);
+                (c0, e0)
+            }
+        };
         let [m0, m1, m2] = *m;
         let (q0, q1, q2) = (sq(m0), sq(m1), sq(m2));
         let cas = q0 + q1 + q2;
@@ -196,7 +204,7 @@ impl<T: Real> PreMv<T> {
         }
         // m is checked by the modifier (a non-finite m gives NonFinite there)
         let inv = self.modifier.modified_inverse(self.h, m)?;
-        if self.modified_inv == Some(inv) {
+        if matches!(&self.modified_inv, Some(old) if same3(old, &inv)) {
             // the modified body is the same to the last bit (a small change of m or h moves
             // I~ by about (h |Omega|)^2 of its relative size: in f32 usually not at all), so
             // the Mv goes on with its body and tracking and sees only the new m or h
@@ -474,6 +482,23 @@ impl<T: Real> Modifier<T> {
         }
         Ok(inv)
     }
+}
+
+/// The trajectory's `(|m|^2, m . I^-1 m)` for [`PreMv::hold_invariants`].
+#[derive(Clone, Copy, Debug)]
+enum Invariants<T> {
+    /// No trajectory yet.
+    None,
+    /// Those of this momentum (the one the caller set), not yet formed.
+    Of([T; 3]),
+    Taken(T, T),
+}
+
+/// `a == b` component by component (the slice comparison `==` on arrays compiled to a loop
+/// call on the M4F).
+#[inline(always)]
+fn same3<T: Real>(a: &[T; 3], b: &[T; 3]) -> bool {
+    a[0] == b[0] && a[1] == b[1] && a[2] == b[2]
 }
 
 /// `[1/a, 1/b, 1/c]` for positive `a, b, c` with one division (Montgomery's trick: `r =
