@@ -180,6 +180,7 @@ macro_rules! impl_real {
                 <$t>::is_finite(self)
             }
             #[inline]
+            #[allow(clippy::eq_op)] // x - x is the point
             fn all_finite3(self, b: Self, c: Self) -> bool {
                 if cfg!(all(target_arch = "arm", target_abi = "eabihf")) {
                     // x - x is +0 for every finite x (round to nearest) and NaN otherwise
@@ -235,6 +236,7 @@ mod tests {
 
     /// The one-comparison finiteness test against three `is_finite` calls, on every triple of
     /// special and ordinary values (NaN, infinities, signed zeros, subnormals, the extremes).
+    #[allow(clippy::eq_op)] // x - x is the point
     fn all_finite3_agrees<T: Real>(values: &[T]) {
         for &a in values {
             for &b in values {
