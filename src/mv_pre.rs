@@ -90,6 +90,15 @@ impl<T: Real> PreMv<T> {
         self.order
     }
 
+    /// A copy with step `h` and no trajectory: what `PreMv::new(body, h, order)` gives (the
+    /// same steps to round-off), without computing the modified moments' tables again.
+    pub(crate) fn restarted(&self, h: T) -> Self {
+        let mut fresh = self.clone();
+        fresh.set_step_size(h);
+        fresh.reset();
+        fresh
+    }
+
     /// The modified principal moments `I~` for momentum `m` (docs/MATH.md §5).
     ///
     /// # Errors

@@ -38,7 +38,6 @@ use crate::real::{c, Real};
 pub struct RetimedMv<T> {
     body: Body<T>,
     h: T,
-    order: u8,
     /// The DMV with the retimed step, stepped in place; valid while it follows the momentum.
     inner: PreMv<T>,
     /// `h' / h` of the last retiming: the start of the next one after an outside change of
@@ -57,7 +56,6 @@ impl<T: Real> RetimedMv<T> {
         Ok(Self {
             body,
             h,
-            order,
             inner: PreMv::new(body, h, order)?,
             ratio: None,
         })
@@ -71,7 +69,7 @@ impl<T: Real> RetimedMv<T> {
     /// tries (past the existence limit: [`StepError::StepTooLarge`]), and
     /// [`StepError::NoConvergence`] when the secant iteration for `h'` fails.
     pub fn retimed_step(&self, m: &[T; 3]) -> Result<T, StepError> {
-        retime(&self.body, self.h, self.order, m, None)
+        retime(&self.inner, self.h, m, None)
     }
 
     #[inline(always)]
@@ -85,8 +83,8 @@ impl<T: Real> RetimedMv<T> {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
-        let h = retime(&self.body, self.h, self.order, m, self.ratio)?;
-        self.inner = PreMv::new(self.body, h, self.order)?;
+        let h = retime(&self.inner, self.h, m, self.ratio)?;
+        self.inner = self.inner.restarted(h);
         self.ratio = Some(h / self.h);
         Ok(())
     }
@@ -139,12 +137,12 @@ fn exact_time<T: Real>(orbit: &Orbit<T>, m1: &[T; 3], guess: T) -> Result<T, Ste
 /// earlier retiming (`warm`), from that guess (after a small change of `m` or `h` it lands at
 /// round-off), then secant steps.
 fn retime<T: Real>(
-    body: &Body<T>,
+    template: &PreMv<T>,
     h: T,
-    order: u8,
     m: &[T; 3],
     warm: Option<T>,
 ) -> Result<T, StepError> {
+    let body = template.body();
     let v = checked_momentum(m)?;
     if !h.is_finite() {
         return Err(StepError::NonFinite);
@@ -158,7 +156,9 @@ fn retime<T: Real>(
     let orbit = Orbit::new(body, &State::new(*m, [T::ONE, T::ZERO, T::ZERO, T::ZERO]))?;
     let tau = |hp: T| -> Result<T, StepError> {
         let mut m1 = *m;
-        PreMv::new(*body, hp, order)?.step(&mut m1)?;
+        // a restarted copy of the integrator: the modified moments' tables are the body's and
+        // are not computed again (building a PreMv per trial step did, every time)
+        template.restarted(hp).step(&mut m1)?;
         // near the solution the exact time is h itself (hp is off by tau_3 h^3)
         exact_time(&orbit, &m1, h)
     };
