@@ -19,7 +19,7 @@ use crate::error::StepError;
 use crate::integrator::{checked_momentum, Integrator, State};
 use crate::linalg::Vec3;
 use crate::mv_pre::PreMv;
-use crate::orbit::Orbit;
+use crate::exact::Orbit as Flow;
 use crate::real::{c, Real};
 
 /// DMV (plain or preprocessed to `order`) retimed so that the momentum is exact at `t = n h`.
@@ -92,14 +92,26 @@ impl<T: Real> RetimedMv<T> {
 
 /// Time `tau` at which the exact orbit from `m0` reaches `m1` (which lies on it), near `guess`:
 /// secant on the component of `m(tau) - m1` along the orbit's tangent at `m1`. The orbit is
-/// set up once by the caller ([`Orbit`]: elliptic modulus, periods and phase), so each trial
+/// set up once by the caller (the momentum part of [`crate::Orbit`]: elliptic modulus, periods
+/// and phase, none of the attitude's constants), so each trial
 /// time costs one evaluation of the Jacobi functions.
-fn exact_time<T: Real>(orbit: &Orbit<T>, m1: &[T; 3], guess: T) -> Result<T, StepError> {
-    let w = orbit.body().angular_velocity(m1);
+fn exact_time<T: Real>(
+    body: &Body<T>,
+    orbit: &Flow<T>,
+    m1: &[T; 3],
+    guess: T,
+) -> Result<T, StepError> {
+    let w = body.angular_velocity(m1);
     let v1 = Vec3::from_array(*m1);
     let tangent = v1.cross(Vec3::from_array(w));
     let f = |tau: T| -> Result<T, StepError> {
-        let m = Vec3::from_array(orbit.momentum_at(tau)?);
+        if !tau.is_finite() {
+            return Err(StepError::NonFinite);
+        }
+        let (m, _) = orbit.eval(None, tau)?;
+        if !m.is_finite() {
+            return Err(StepError::Degenerate);
+        }
         Ok(m.sub(v1).dot(tangent))
     };
     // f'(tau) = (m x Omega) . tangent, which is |tangent|^2 at the solution: a Newton step with
@@ -153,14 +165,16 @@ fn retime<T: Real>(
         return Ok(h);
     }
     // tau(h') - h by one DMV step and the exact time of its result
-    let orbit = Orbit::new(body, &State::new(*m, [T::ONE, T::ZERO, T::ZERO, T::ZERO]))?;
+    // the momentum's orbit only: the attitude's constants (an elliptic integral of the third
+    // kind) were a sixth of a re-solve
+    let orbit = Flow::new(body, v, false)?;
     let tau = |hp: T| -> Result<T, StepError> {
         let mut m1 = *m;
         // a restarted copy of the integrator: the modified moments' tables are the body's and
         // are not computed again (building a PreMv per trial step did, every time)
         template.restarted(hp).step(&mut m1)?;
         // near the solution the exact time is h itself (hp is off by tau_3 h^3)
-        exact_time(&orbit, &m1, h)
+        exact_time(body, &orbit, &m1, h)
     };
     // the warm start, or h itself
     let mut a = match warm {
