@@ -16,10 +16,10 @@
 
 use crate::body::Body;
 use crate::error::StepError;
+use crate::exact::Orbit as Flow;
 use crate::integrator::{checked_momentum, Integrator, State};
 use crate::linalg::Vec3;
 use crate::mv_pre::PreMv;
-use crate::exact::Orbit as Flow;
 use crate::real::{c, Real};
 
 /// DMV (plain or preprocessed to `order`) retimed so that the momentum is exact at `t = n h`.
@@ -148,12 +148,7 @@ fn exact_time<T: Real>(
 /// The step `h'` with `tau(h') = h`: a Newton step from `h`, or, given the ratio `h' / h` of an
 /// earlier retiming (`warm`), from that guess (after a small change of `m` or `h` it lands at
 /// round-off), then secant steps.
-fn retime<T: Real>(
-    template: &PreMv<T>,
-    h: T,
-    m: &[T; 3],
-    warm: Option<T>,
-) -> Result<T, StepError> {
+fn retime<T: Real>(template: &PreMv<T>, h: T, m: &[T; 3], warm: Option<T>) -> Result<T, StepError> {
     let body = template.body();
     let v = checked_momentum(m)?;
     if !h.is_finite() {
