@@ -60,6 +60,11 @@ impl<T: Real> Vec3<T> {
     pub fn norm2(self) -> T {
         self.dot(self)
     }
+    /// Largest component.
+    #[inline]
+    pub fn max_element(self) -> T {
+        self.x.max(self.y).max(self.z)
+    }
     /// Largest absolute component (the max norm).
     #[inline]
     pub fn max_abs(self) -> T {

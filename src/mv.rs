@@ -598,7 +598,7 @@ impl<T: Real> Mv<T> {
     pub(crate) fn set_body(&mut self, body: Body<T>, inv_i: Vec3<T>, from: Option<[T; 3]>) {
         let j = body.mass_matrix_vec();
         // J_i >= 0: the largest entry is the largest magnitude
-        let (new, old) = (j.x.max(j.y).max(j.z), self.track_scale_reference());
+        let (new, old) = (j.max_element(), self.body.mass_matrix_vec().max_element());
         self.body = body;
         self.inv_i = inv_i;
         self.recheck = true;
@@ -623,13 +623,6 @@ impl<T: Real> Mv<T> {
         if let Some(a) = self.anchor.as_mut() {
             a.last = Vec3::from_array(m);
         }
-    }
-
-    /// The largest entry of the current mass matrix (`J_i >= 0`).
-    #[inline(always)]
-    fn track_scale_reference(&self) -> T {
-        let j = self.body.mass_matrix_vec();
-        j.x.max(j.y).max(j.z)
     }
 
     /// The largest `|h|` for which the DMV step from `m` exists (the cubic of docs/MATH.md §2

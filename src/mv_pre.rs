@@ -147,7 +147,13 @@ impl<T: Real> PreMv<T> {
             return Ok(None);
         }
         let held = self.hold_invariants(m);
-        self.rebuild(&held, Some(held))?;
+        // the series again only if the hold moved the momentum
+        let inv = if same3(&held, m) {
+            inv
+        } else {
+            self.modifier.modified_inverse(self.h, &held)?
+        };
+        self.rebuild_with(inv, Some(held))?;
         Ok(Some(held))
     }
 
@@ -208,11 +214,14 @@ impl<T: Real> PreMv<T> {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
-        if !self.h.is_finite() {
-            return Err(StepError::NonFinite);
-        }
-        // m is checked by the modifier (a non-finite m gives NonFinite there)
+        // m and h are checked by the modifier (NonFinite there)
         let inv = self.modifier.modified_inverse(self.h, m)?;
+        self.rebuild_with(inv, from)
+    }
+
+    /// [`PreMv::rebuild`] with the series' `1 / I~` already evaluated.
+    #[inline(always)]
+    fn rebuild_with(&mut self, inv: [T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
         if matches!(&self.modified_inv, Some(old) if same3(old, &inv)) {
             // the modified body is the same to the last bit (a small change of m or h moves
             // I~ by about (h |Omega|)^2 of its relative size: in f32 usually not at all), so
@@ -415,15 +424,7 @@ impl<T: Real> Modifier<T> {
 
     /// `I~` for step `h` and momentum `m`: `1 / I~_j = (1 / I_j)(1 + s) + d` (docs/MATH.md §5).
     fn modified_inertia(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
-        self.modified(h, m).map(|(inertia, _)| inertia)
-    }
-
-    /// `I~` and `1 / I~` for step `h` and momentum `m` (the inverse is what the series gives;
-    /// the moments cost one division, [`reciprocals`]). `NonFinite` for a non-finite `m`.
-    #[inline]
-    fn modified(&self, h: T, m: &[T; 3]) -> Result<([T; 3], [T; 3]), StepError> {
-        let inv = self.modified_inverse(h, m)?;
-        Ok((self.moments(inv)?, inv))
+        self.moments(self.modified_inverse(h, m)?)
     }
 
     /// `I~` from `1 / I~` ([`Modifier::modified_inverse`]).
@@ -442,10 +443,13 @@ impl<T: Real> Modifier<T> {
     }
 
     /// `1 / I~` for step `h` and momentum `m`: the series of docs/MATH.md §5, positive (else
-    /// `StepTooLarge`). `NonFinite` for a non-finite `m`.
+    /// `StepTooLarge`). `NonFinite` for a non-finite `m` or `h`.
     #[inline]
     fn modified_inverse(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
         let [a1, a2, a3] = self.inv_i;
+        if !h.is_finite() {
+            return Err(StepError::NonFinite);
+        }
         if self.order <= 2 {
             if !(m[0].is_finite() && m[1].is_finite() && m[2].is_finite()) {
                 return Err(StepError::NonFinite);

@@ -28,7 +28,7 @@ use crate::real::{c, Real};
 /// step size changed): the exact orbit is set up once ([`crate::Orbit`]) and the retiming
 /// equation solved by a Newton step and secant steps, each trial a DMV step and a few
 /// evaluations of the Jacobi functions. After an outside change of `m` or `h` the last ratio
-/// `h' / h` starts the solve and one or two trials suffice: on the host 15–34x a step (f32 and
+/// `h' / h` starts the solve and one or two trials suffice: on the host 10–25x a step (f32 and
 /// f64, `rigid3-lab loop-cost`), where rebuilding from scratch was about 300x. Per step:
 /// exactly an [`crate::Mv`] step (106 flops free running, no sqrt, no trigonometry). Accuracy: `m` to round-off at the
 /// requested times (the set-up solves `tau(h') = h` to `8 eps`, so the phase error grows as

@@ -248,3 +248,31 @@ fn retimed_dmv_stays_exact_under_outside_changes() {
         }
     }
 }
+
+/// A non-finite step size set on a running `PreMv` (a clock that failed) is refused as
+/// `NonFinite`, the error a fresh build with that step gives, and the state is left as it was,
+/// at every order (regression: after a change of `h` alone, orders 4–10 reported `Overflow`).
+#[test]
+fn a_non_finite_step_size_is_refused_as_non_finite() {
+    let (b, m0, _) = talk();
+    for order in [2u8, 4, 6, 8, 10] {
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut a = PreMv::new(b, 0.05, order).unwrap();
+            let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+            a.step_state(&mut s).unwrap();
+            let before = s;
+            a.set_step_size(bad);
+            assert_eq!(
+                a.step_state(&mut s),
+                Err(StepError::NonFinite),
+                "order {order}"
+            );
+            assert_eq!(s, before);
+            let mut m = s.m;
+            assert_eq!(a.step(&mut m), Err(StepError::NonFinite), "order {order}");
+            assert_eq!(m, before.m);
+            let mut fresh = PreMv::new(b, bad, order).unwrap();
+            assert_eq!(fresh.step_state(&mut s), Err(StepError::NonFinite));
+        }
+    }
+}
