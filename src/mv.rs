@@ -215,8 +215,10 @@ pub struct Mv<T> {
     /// The body changed since the last step: the DMV invariants are taken afresh from the
     /// next input (they depend on `J`), while the spatial momentum is kept (it does not).
     retake: bool,
-    /// `I^-1`, for the attitude's update.
+    /// `I^-1`.
     inv_i: Vec3<T>,
+    /// `h I^-1 / 4`, for the attitude's update ([`Mv::rotation_between`]).
+    turn_scale: Vec3<T>,
     /// The free-running map's coefficients for the current trajectory, `h` and body (built
     /// by the first free-running step at small `h |Omega|`, dropped by every other step).
     frozen: Option<FrozenMap<T>>,
@@ -231,6 +233,7 @@ pub struct Mv<T> {
 /// a step, so between two holds `|q|` and `R(q) m` move by at most a few ulps, and the drift
 /// stays bounded (tests/soak.rs); a step never costs more than before.
 const HOLD_PERIOD: u8 = 8;
+const _: () = assert!(HOLD_PERIOD.is_power_of_two());
 
 /// The invariants the trajectory must keep: taken from the input whenever it is not the
 /// momentum this integrator returned last (the caller changed it). They are the DMV map's
@@ -257,6 +260,9 @@ struct Anchor<T> {
     /// step does not let the invariants random-walk, as rescaling `alpha` itself would).
     hn2: T,
     taken: (T, T),
+    /// Free-running steps since the last one that moved its input back onto the invariants
+    /// (`0` = the next one does): see [`Mv::advance_frozen`].
+    unheld: u8,
     /// With attitude: the spatial momentum of the trajectory (`pi0 = R(q) m` as taken, then
     /// `pi0 / |pi0|^2` once a step needs it) and the attitude returned last.
     spatial: Option<Spatial<T>>,
@@ -309,6 +315,7 @@ impl<T: Real> Anchor<T> {
             half_inv: T::ZERO,
             hn2: T::ZERO,
             taken: (T::ZERO, T::ZERO),
+            unheld: 0,
             spatial: None,
         };
         a.retake(m, k, hn);
@@ -381,23 +388,35 @@ impl<T: Real> Mv<T> {
     /// `v = b / p0` with `b = h I^-1 (m_k + m_k+1) / 4`, and `|p| = 1` gives
     /// `p0^4 - p0^2 + |b|^2 = 0`, whose root on the step's branch (`p0 = 1` at `h = 0`) is
     /// `p0^2 = (1 + sqrt(1 - 4 |b|^2)) / 2` for steps that turn by less than about 60
-    /// degrees (`1 - 4 |b|^2 >= 1/4`). About 25 flops, two square roots and one division,
-    /// where forming `X` and converting it took about 200 flops. Accurate to a few ulps: `b`
-    /// is a sum of like-signed terms. For larger turns the two roots approach each other
+    /// degrees (`1 - 4 |b|^2 >= 1/4`). About 25 flops, where forming `X` and converting it
+    /// took about 200: at small turns (`h |Omega|` below about 0.035 in f64, 0.1 in f32)
+    /// `p0 - 1` and `1 / p0` come from their series in `|b|^2` ([`turn_series`]: no square
+    /// root, no division, which also marks the new attitude finite without a test), beyond
+    /// from two square roots and one division. Accurate to a few ulps: `b` is a sum of
+    /// like-signed terms. For larger turns the two roots approach each other
     /// (they meet where `4 |b|^2 = 1`) and the branch is told by the difference of the two
-    /// equations, `h (m_k - m_k+1) = 4 (J v) x v`: see [`Mv::far_branch`].
+    /// equations, `h (m_k - m_k+1) = 4 (J v) x v`: see [`Mv::far_branch`]. Returns `p` and
+    /// whether it came from the series.
     #[inline]
-    fn rotation_between(&self, m: Vec3<T>, next: Vec3<T>, increment: Vec3<T>) -> Quat<T> {
-        let k = self.h * c::<T>(0.125);
-        let w = self.inv_i;
-        // (m + m') / 2 first: the sum itself could overflow for |m| near the largest float
+    fn rotation_between(&self, m: Vec3<T>, next: Vec3<T>, increment: Vec3<T>) -> (Quat<T>, bool) {
+        let w = self.turn_scale;
         let b = Vec3::new(
-            k * w.x * (m.x + next.x),
-            k * w.y * (m.y + next.y),
-            k * w.z * (m.z + next.z),
+            w.x * (m.x + next.x),
+            w.y * (m.y + next.y),
+            w.z * (m.z + next.z),
         );
-        let b = b.scale(c::<T>(2.0));
-        let r = T::ONE - c::<T>(4.0) * b.norm2();
+        let b2 = b.norm2();
+        if b2 <= c::<T>(series_limit::<T>()) {
+            let (w_minus_1, inv) = turn_series(b2);
+            let p = Quat {
+                w: T::ONE + w_minus_1,
+                x: b.x * inv,
+                y: b.y * inv,
+                z: b.z * inv,
+            };
+            return (p, true);
+        }
+        let r = T::ONE - c::<T>(4.0) * b2;
         let root = if r > T::ZERO { r.sqrt() } else { T::ZERO };
         let root = if root >= c::<T>(0.5) {
             root
@@ -406,12 +425,13 @@ impl<T: Real> Mv<T> {
         };
         let p0 = ((T::ONE + root) * c::<T>(0.5)).sqrt();
         let inv = T::ONE / p0;
-        Quat {
+        let p = Quat {
             w: p0,
             x: b.x * inv,
             y: b.y * inv,
             z: b.z * inv,
-        }
+        };
+        (p, false)
     }
 
     /// For a large turn, `+-sqrt(1 - 4 |b|^2)`: the sign of the root `p0^2 = (1 +- root) / 2`
@@ -449,6 +469,7 @@ impl<T: Real> Mv<T> {
             recheck: false,
             retake: false,
             inv_i: body.inverse_inertia(),
+            turn_scale: body.inverse_inertia().scale(h * c::<T>(0.25)),
             phase: 0,
             frozen: None,
         }
@@ -560,11 +581,8 @@ impl<T: Real> Mv<T> {
     /// Counts a successful step with attitude towards the next full one.
     #[inline(always)]
     fn count_attitude_step(&mut self) {
-        self.phase = if self.phase + 1 >= HOLD_PERIOD {
-            0
-        } else {
-            self.phase + 1
-        };
+        // HOLD_PERIOD is a power of two: a mask, not a comparison
+        self.phase = self.phase.wrapping_add(1) & (HOLD_PERIOD - 1);
     }
 
     /// `step_state` that also returns the step's turn `p = quat(X)` (`q' = q (x) p`,
@@ -577,7 +595,7 @@ impl<T: Real> Mv<T> {
         let follows = self.follows_state(v, q);
         let step = self.advance(v, follows.1)?;
         let next = step.next;
-        let p = self.rotation_between(v, next, step.increment);
+        let (p, _) = self.rotation_between(v, next, step.increment);
         let held = self.turn_attitude(follows, q, next, p);
         write_state_stepped(s, next, held)?;
         self.count_attitude_step();
@@ -601,6 +619,7 @@ impl<T: Real> Mv<T> {
         let (new, old) = (j.max_element(), self.body.mass_matrix_vec().max_element());
         self.body = body;
         self.inv_i = inv_i;
+        self.turn_scale = inv_i.scale(self.h * c::<T>(0.25));
         self.recheck = true;
         // the anchored beta depends on J: taken again at the next step
         self.retake = true;
@@ -852,15 +871,28 @@ impl<T: Real> Mv<T> {
         }
         // by reference: a copy of the 19 words was a memcpy call
         let map = self.frozen.as_ref()?;
-        // the invariants by value: a reference to a Coefficients put it on the stack, and
-        // reading it back stalled the step on the host (57 instead of 45 ns)
-        let (corr, corr_v) = a.correction(t.invariants(m), t);
-        // a non-finite increment (a momentum whose cube overflows) makes next non-finite
-        let increment = map.increment(m, corr + T::ONE);
-        let next = m.add(increment.add(t.invariant_fix(m, corr, corr_v)));
+        // the invariants are held every HOLD_PERIOD-th step, like the attitude: each
+        // free-running step moves |m|^2 and the energy by an ulp or so, and the hold takes
+        // them back, so between two holds they stay within a few ulps of the trajectory's
+        // (tests/soak.rs); the steps between skip about 50 flops
+        let (increment, next) = if a.unheld == 0 {
+            // the invariants by value: a reference to a Coefficients put it on the stack,
+            // and reading it back stalled the step on the host (57 instead of 45 ns)
+            let (corr, corr_v) = a.correction(t.invariants(m), t);
+            // a non-finite increment (a momentum whose cube overflows) makes next non-finite
+            let increment = map.increment(m, corr + T::ONE);
+            (
+                increment,
+                m.add(increment.add(t.invariant_fix(m, corr, corr_v))),
+            )
+        } else {
+            let increment = map.increment(m, T::ONE);
+            (increment, m.add(increment))
+        };
         if !next.is_finite() {
             return None;
         }
+        a.unheld = a.unheld.wrapping_add(1) & (HOLD_PERIOD - 1);
         a.last = next;
         Some(Advanced { next, increment })
     }
@@ -1110,6 +1142,51 @@ impl<T: Real> Track<T> {
     }
 }
 
+/// `(p0 - 1, 1 / p0)` for `p0^2 = (1 + sqrt(1 - 4 |b|^2)) / 2` from `b2 = |b|^2 <=`
+/// [`series_limit`], by their series: two square roots and a division in a row were the
+/// longest stretch of the step's dependency chain on the host (and two software square roots
+/// on a Cortex-M3), and `p0 - 1` comes out with full relative accuracy.
+///
+/// In `x = 4 |b|^2` (`p0 = cos(phi / 2)` for `x = sin^2 phi`),
+/// `p0 - 1 = -x/8 - 5x^2/128 - 21x^3/1024 - 429x^4/32768 - 2431x^5/262144 - ...` and
+/// `1/p0 = 1 + x/8 + 7x^2/128 + 33x^3/1024 + 715x^4/32768 + 4199x^5/262144 + ...`, both with
+/// positive coefficients that shrink, so the part left out after degree `n` is at most
+/// `c_{n+1} x^{n+1} / (1 - x)`. f64 sums to degree 4 (left out: below `0.017 x^5`), f32 to
+/// degree 2 (below `0.033 x^3`); with [`series_limit`] that is at most a quarter of an ulp of
+/// one. Rounding adds about an ulp; the unit tests check both against the closed forms.
+#[inline(always)]
+fn turn_series<T: Real>(b2: T) -> (T, T) {
+    if T::EPSILON.to_f64() > 1e-10 {
+        (
+            -b2 * (c::<T>(0.5) + b2 * c::<T>(5.0 / 8.0)),
+            T::ONE + b2 * (c::<T>(0.5) + b2 * c::<T>(7.0 / 8.0)),
+        )
+    } else {
+        (
+            -b2 * (c::<T>(0.5)
+                + b2 * (c::<T>(5.0 / 8.0)
+                    + b2 * (c::<T>(21.0 / 16.0) + b2 * c::<T>(429.0 / 128.0)))),
+            T::ONE
+                + b2 * (c::<T>(0.5)
+                    + b2 * (c::<T>(7.0 / 8.0)
+                        + b2 * (c::<T>(33.0 / 16.0) + b2 * c::<T>(715.0 / 128.0)))),
+        )
+    }
+}
+
+/// The largest `|b|^2` for which [`turn_series`] is used: `x = 4 |b|^2 = 1.25e-3` in f64
+/// (`0.017 x^5 < eps / 4`; `h |Omega|` up to about `0.035`) and `x = 0.0095` in f32
+/// (`0.033 x^3 < eps / 4`; `h |Omega|` up to about `0.1`, which covers a 200 Hz loop below
+/// 20 rad/s). Larger turns take the square roots.
+#[inline(always)]
+fn series_limit<T: Real>() -> f64 {
+    if T::EPSILON.to_f64() > 1e-10 {
+        0.0095 / 4.0
+    } else {
+        1.25e-3 / 4.0
+    }
+}
+
 /// `|delta| / sum j` below which a free-running step keeps `delta` (and runs the rational map
 /// of crate::mv_frozen): at large `h |Omega|` a frozen `s1` lets round-off grow even with the
 /// invariants held (docs/MATH.md §4). `tests/mv.rs` `long_runs_near_the_existence_limit_stay_at_round_off`
@@ -1149,9 +1226,16 @@ impl<T: Real> Integrator<T> for Mv<T> {
         let follows = self.follows_state(v, q);
         let step = self.advance(v, follows.1)?;
         let next = step.next;
-        let p = self.rotation_between(v, next, step.increment);
+        let (p, small) = self.rotation_between(v, next, step.increment);
         let held = self.turn_attitude(follows, q, next, p);
-        write_state_stepped(s, next, held)?;
+        if small {
+            // a finite unit q turned by a finite p within 1e-4 of one: finite (and a
+            // hold that is not is dropped), so the check is skipped
+            s.m = next.to_array();
+            s.q = held.to_array();
+        } else {
+            write_state_stepped(s, next, held)?;
+        }
         self.count_attitude_step();
         Ok(())
     }
@@ -1163,6 +1247,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn set_step_size(&mut self, h: T) {
         let old = self.h;
         self.h = h;
+        self.turn_scale = self.inv_i.scale(h * c::<T>(0.25));
         self.recheck = true;
         // the tracked root is kept within 2x of the old step: (h / old)^2 in [1/4, 4], false
         // for a NaN or infinite h and for old = 0 (one division: the four comparisons of
@@ -1223,5 +1308,42 @@ mod tests {
             big.step(&mut m).unwrap();
         }
         assert!(big.frozen.is_none(), "large h |Omega| tracks s1");
+    }
+
+    /// `(p0 - 1, 1 / p0)` in f64 from closed forms without cancellation:
+    /// `p0^2 - 1 = -x / (2 (1 + sqrt(1 - x)))`, `p0 - 1 = (p0^2 - 1) / (p0 + 1)`.
+    fn turn_closed_form(b2: f64) -> (f64, f64) {
+        let x = 4.0 * b2;
+        let p0sq_minus_1 = -x / (2.0 * (1.0 + (1.0 - x).sqrt()));
+        let p0 = (1.0 + p0sq_minus_1).sqrt();
+        (p0sq_minus_1 / (p0 + 1.0), 1.0 / p0)
+    }
+
+    /// The series of [`turn_series`] up to [`series_limit`] against the closed forms: `p0 - 1`
+    /// within half an ulp of one (the truncation's quarter plus rounding; a wrong coefficient
+    /// of the last term kept is off by more), `1 / p0` within the closed form's own rounding.
+    #[test]
+    fn turn_series_matches_the_closed_forms() {
+        let (lim64, lim32) = (series_limit::<f64>(), series_limit::<f32>());
+        let mut worst = [0.0f64; 4];
+        for i in 0..=4000 {
+            // dense near the limit, where the truncation is largest
+            let t = 1.0 - (i as f64 / 4000.0).powi(3);
+            let b2 = lim64 * t;
+            let (w, inv) = turn_series::<f64>(b2);
+            let (w_ref, inv_ref) = turn_closed_form(b2);
+            worst[0] = worst[0].max((w - w_ref).abs() / f64::EPSILON);
+            worst[1] = worst[1].max((inv - inv_ref).abs() / f64::EPSILON);
+            let b2 = (lim32 * t) as f32;
+            let (w, inv) = turn_series::<f32>(b2);
+            let (w_ref, inv_ref) = turn_closed_form(f64::from(b2));
+            let eps = f64::from(f32::EPSILON);
+            worst[2] = worst[2].max((f64::from(w) - w_ref).abs() / eps);
+            worst[3] = worst[3].max((f64::from(inv) - inv_ref).abs() / eps);
+        }
+        assert!(worst[0] <= 0.5, "f64 p0 - 1: {} eps", worst[0]);
+        assert!(worst[1] <= 1.5, "f64 1 / p0: {} eps", worst[1]);
+        assert!(worst[2] <= 0.5, "f32 p0 - 1: {} eps", worst[2]);
+        assert!(worst[3] <= 1.0, "f32 1 / p0: {} eps", worst[3]);
     }
 }

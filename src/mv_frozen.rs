@@ -28,9 +28,10 @@
 //!
 //! about 100 flops and one division, every product of two quantities of the input and no
 //! 3x3 solve, so the chain from `m` to `m'` is about ten operations deep (the solve's was
-//! about thirty-five: on the host the step is bound by that chain, not by its flops). Each
-//! term is computed to relative accuracy: `dd = O(h^2)` is formed once without cancellation
-//! (crate::mv's `Track`), and `m x (P m)` has components `m_j m_k (P_k - P_j)`.
+//! about thirty-five). Each term is computed to relative accuracy: `dd = O(h^2)` is formed
+//! once without cancellation (crate::mv's `Track`), and `m x (P m)` has components
+//! `m_j m_k (P_k - P_j)` with `P_k - P_j = d_i (j_j^2 - j_k^2)` formed once (so do
+//! `(ds m) x m`'s): both cross products cost three products of the pairs `m_j m_k`.
 //!
 //! The coefficients use the trajectory's anchored `alpha`, not the input's own: the two
 //! differ by round-off, which the step's invariant correction removes. At large
@@ -51,6 +52,14 @@ pub(crate) struct FrozenMap<T> {
     dd: Vec3<T>,
     /// `hn (j - s1)`.
     hjs: Vec3<T>,
+    /// `(P_z - P_y, P_x - P_z, P_y - P_x)`, formed as `d_x (j_y^2 - j_z^2)` and so on
+    /// (`P = adj(D) + s1^2 alpha` and `d_i - d_k = j_i^2 - j_k^2`): `m x (P m)` is then
+    /// `(m_y m_z, m_x m_z, m_x m_y)` times these, with no cancellation between nearly equal
+    /// products when two moments are close.
+    p_diff: Vec3<T>,
+    /// `(ds_y - ds_z, ds_z - ds_x, ds_x - ds_y) = s1 hn (j_y^2 - j_z^2, ...)`, for
+    /// `(ds m) x m` alike.
+    ds_diff: Vec3<T>,
     /// `hn^2`.
     hn2: T,
 }
@@ -69,9 +78,18 @@ impl<T: Real> FrozenMap<T> {
         let s1sq = sq(s1);
         let s1a = s1sq * alpha;
         let hn2 = sq(hn);
+        // differences of squares as products: exact up to the two roundings
+        let j2_diff = Vec3::new(
+            (j.y - j.z) * (j.y + j.z),
+            (j.z - j.x) * (j.z + j.x),
+            (j.x - j.y) * (j.x + j.y),
+        );
+        let s1hn = s1 * hn;
         Self {
+            p_diff: d.mul_elem(j2_diff),
+            ds_diff: j2_diff.scale(s1hn),
             p: Vec3::new(adj.x + s1a, adj.y + s1a, adj.z + s1a),
-            ds: d.scale(s1 * hn),
+            ds: d.scale(s1hn),
             w: adj.add(d.scale(s1sq)).scale(hn2),
             c0: d.x * adj.x + s1a * alpha,
             dd: Vec3::new(delta * j.x - e, delta * j.y - e, delta * j.z - e),
@@ -86,13 +104,18 @@ impl<T: Real> FrozenMap<T> {
     pub(crate) fn increment(&self, m: Vec3<T>, scale: T) -> Vec3<T> {
         let m2 = m.mul_elem(m);
         let msq = m2.x + m2.y + m2.z;
+        // (m_y m_z, m_x m_z, m_x m_y): both cross products below are these times constants
+        let pairs = Vec3::new(m.y * m.z, m.x * m.z, m.x * m.y);
         let pm = self.p.mul_elem(m);
         let dm = self.ds.mul_elem(m);
-        let n = pm.sub(dm.cross(m));
+        let n = pm.sub(pairs.mul_elem(self.ds_diff));
         let pmm = self.p.dot(m2);
         let dmm = self.ds.dot(m2);
         let den = self.c0 + self.w.dot(m2);
-        let m_x_n = m.cross(pm).sub(dm.scale(msq)).add(m.scale(dmm));
+        let m_x_n = pairs
+            .mul_elem(self.p_diff)
+            .sub(dm.scale(msq))
+            .add(m.scale(dmm));
         let sum = self
             .dd
             .mul_elem(n)
