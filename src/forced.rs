@@ -260,7 +260,6 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
     }
     let tau1 = Vec3::from_array(torque.torque(t1, &q.to_array()));
     let (m, lost1) = kick(m, tau1.scale(half).add(lost0));
-    *lost = lost1;
     if !m.is_finite() {
         return Err(if tau1.is_finite() {
             StepError::Overflow
@@ -268,6 +267,8 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
             StepError::NonFinite
         });
     }
+    // only on success: a caller may pass its own carry in place
+    *lost = lost1;
     Ok((m, q, tau1))
 }
 
@@ -421,24 +422,18 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         tau_end: [T; 3],
     ) -> Result<(), StepError> {
         // the state and the torques are checked on their way through the step (kdk): the
-        // drift refuses a non-finite input, the end kick a non-finite result
-        // (a turn needs the unit attitude first)
+        // drift refuses a non-finite input (a non-finite start torque makes one), the end
+        // kick a non-finite result (a non-finite end torque makes one); a turn needs the
+        // unit attitude first. The drift may then have stepped: its own next step sees the
+        // caller's state as an outside change, as after any correction.
         let (m, q) = if self.turn.is_some() {
             checked_state(s)?
         } else {
             (Vec3::from_array(s.m), Quat::from_array(s.q))
         };
-        // one test for both torques (a sum of finite values overflows only for torques that
-        // would overflow the momentum anyway), before the drift is stepped
-        let [a0, a1, a2] = tau_start;
-        let [b0, b1, b2] = tau_end;
-        if !(((a0 + a1) + (a2 + b0)) + (b1 + b2)).is_finite() {
-            return Err(StepError::NonFinite);
-        }
         let tau0 = Vec3::from_array(tau_start);
         let h = self.drift.step_size();
         let given = crate::torque::ConstantTorque(tau_end);
-        let mut lost = self.forcing.lost;
         let (m, q, _) = kdk(
             &mut self.drift,
             &given,
@@ -448,9 +443,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
             m,
             q,
             tau0,
-            &mut lost,
+            &mut self.forcing.lost,
         )?;
-        self.forcing.lost = lost;
         s.m = m.to_array();
         s.q = q.to_array();
         self.forcing.clock = self.forcing.clock.after(h);

@@ -1110,16 +1110,23 @@ impl<T: Real> Track<T> {
     /// `c2 r`; it must be below `eps |delta|` (the relative accuracy the increment needs,
     /// [`Track`]). `r` is `O(h^2 |Omega|^2)` times the relative change of the invariants, so a
     /// jittering clock or a filter's correction passes; a large change goes to Newton.
+    ///
+    /// When the second correction is below `4 eps |d1|` (the usual case: `r` is tiny), the
+    /// first step's value is kept and the convergence test is skipped (16 instructions a
+    /// step after an outside change on the M4F).
     #[inline]
     fn chord_converges(&mut self, k: Invariants<T>, correction: T) -> bool {
         let d1 = self.delta - correction;
         let (g1, _) = self.g_only(d1, k);
         let c2 = g1 * self.inv_dg;
+        if c2.abs() <= c::<T>(4.0) * T::EPSILON * d1.abs() && d1.is_finite() {
+            self.set_delta(d1);
+            return true;
+        }
         let d2 = d1 - c2;
-        let small = c2.abs() <= c::<T>(4.0) * T::EPSILON * d2.abs();
         let converged = c2.abs() * c::<T>(2.0) <= correction.abs()
             && sq(c2) <= T::EPSILON * d2.abs() * correction.abs();
-        if (small || converged) && d2.is_finite() {
+        if converged && d2.is_finite() {
             self.set_delta(d2);
             true
         } else {
