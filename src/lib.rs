@@ -34,8 +34,8 @@
 //! The formulas and conventions behind these docs are in `docs/MATH.md` (shipped with the
 //! crate; cited as "docs/MATH.md §n"). Costs (counted flops, host time, Cortex-M4F
 //! instructions, code size, stack) are measured, with the commands that measure them, in the
-//! README's tables: `Mv` takes 106 counted flops per free-running momentum step and 188 with
-//! attitude (talk's case, `h = 0.1`; 150 and 318 on a step after an outside change).
+//! README's tables: `Mv` takes 78 counted flops per free-running momentum step and 152 with
+//! attitude (talk's case, `h = 0.1`; about 210 and 270 on a step after an outside change).
 //!
 //! ## For analysts and filters
 //!

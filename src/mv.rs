@@ -177,20 +177,21 @@ struct Advanced<T> {
 ///
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
 /// `Re > 0` (Moser & Veselov 1991; the talk's eq. (2)) and sets `m_{k+1} = X^T m_k`,
-/// `R_{k+1} = R_k X`, through the linear system of the module docs: 106 counted flops per
-/// free-running momentum step (one division: the rational map of crate::mv_frozen) and 188
-/// with attitude on average (two square roots: the turn's quaternion is read off the
-/// momentum pair; the attitude is renormalised and held every 8th step), and
-/// 150 and 318 on a step after an outside change (the 3x3 solve); no `sqrt` in the momentum
-/// step, no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
+/// `R_{k+1} = R_k X`, through the linear system of the module docs: 78 counted flops per
+/// free-running momentum step on average (one division: the rational map of
+/// crate::mv_frozen; the invariants held every 8th step) and 152–163 with attitude (the
+/// turn's quaternion is read off the momentum pair, by a series at small turns, else with two
+/// square roots; the attitude is renormalised and held every 8th step), and about 170–210 and
+/// 240–270 on a step after an outside change (the 3x3 solve; talk's case, `h` = 0.01–0.1); no
+/// `sqrt` in the momentum step, no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
 /// and re-solved when the caller changes `m` (a filter's correction, a torque kick) or `h` (a
 /// jittering clock): by guarded Newton steps from the tracked value (one or two divisions,
 /// no transcendental call), or from its series in `h^2` for a fresh start; only at
 /// `h |Omega|` of order one does it fall back to the closed-form quartic root.
 ///
 /// Invariants held to round-off, not just conserved by the map: while the caller leaves the
-/// state alone, each step moves its input back onto the trajectory's `|m|^2` and energy (to
-/// first order, division-free on most steps) and turns the new attitude back onto the
+/// state alone, every 8th step moves its input back onto the trajectory's `|m|^2` and energy
+/// (to first order, division-free on most steps) and turns the new attitude back onto the
 /// trajectory's spatial momentum `R(q) m`. Without this, rounding drifts them: in f32 at
 /// 200 Hz on the firmware's spacecraft, `E` by `2.6e-5` and `R(q) m` by `7.3e-5` after `10^6`
 /// steps, growing; held, all three stay below `2e-6` through `10^8` steps (tests/soak.rs).
@@ -228,7 +229,7 @@ pub struct Mv<T> {
 }
 
 /// A step with attitude renormalises `q` and turns it back onto the spatial momentum (about
-/// 110 of its 318 flops) only every `HOLD_PERIOD`-th step, and whenever the caller changed `q`;
+/// 110 flops) only every `HOLD_PERIOD`-th step, and whenever the caller changed `q`;
 /// the steps between compose the turn without either. Both correct round-off of an ulp or so
 /// a step, so between two holds `|q|` and `R(q) m` move by at most a few ulps, and the drift
 /// stays bounded (tests/soak.rs); a step never costs more than before.

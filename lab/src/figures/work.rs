@@ -17,15 +17,15 @@ use std::time::Instant;
 /// Instructions per momentum step on the Cortex-M4F, measured by the firmware under QEMU
 /// (f32, spacecraft scene; QEMU counts instructions, not cycles).
 pub const CORTEX_M4F: [(&str, &str, f64); 9] = [
-    ("mv", "mv", 198.0),
-    ("pre-mv4", "pre-mv4", 238.0),
-    ("pre-mv6", "pre-mv6", 238.0),
-    ("pre-mv8", "pre-mv8", 238.0),
-    ("pre-mv10", "pre-mv10", 238.0),
-    ("rk4", "rk4", 145.0),
+    ("mv", "mv", 167.0),
+    ("pre-mv4", "pre-mv4", 207.0),
+    ("pre-mv6", "pre-mv6", 207.0),
+    ("pre-mv8", "pre-mv8", 207.0),
+    ("pre-mv10", "pre-mv10", 207.0),
+    ("rk4", "rk4", 119.0),
     ("split µmath", "splitting", 306.0),
-    ("split libm", "splitting", 7178.0),
-    ("seed-mv", "seed-mv", 7175.0),
+    ("split libm", "splitting", 7153.0),
+    ("seed-mv", "seed-mv", 7179.0),
 ];
 
 /// The public scenes of the work-precision figure.
