@@ -188,7 +188,7 @@ fn retimed_dmv_is_exact_in_m_and_keeps_the_order_of_q() {
             println!(
                 "{name} order {order}: retimed m {em:.1e} q {eq:.1e}; plain m {pm:.1e} q {pq:.1e}"
             );
-            assert!(em <= 1e-12, "{name} order {order}: m error {em:e}");
+            assert!(em <= 3e-14, "{name} order {order}: m error {em:e}");
             // q keeps the underlying order: within a factor 3 of the un-retimed error
             assert!(
                 eq <= 3.0 * pq.max(1e-13),
@@ -211,6 +211,27 @@ fn retiming_an_equilibrium_changes_nothing() {
         hp < 0.1 && ((0.1 / hp - 1.0) / 0.01 - 0.2253).abs() < 0.01,
         "{hp}"
     );
+}
+
+/// `RetimedMv` over `10^3` steps of the talk's case (`h = 0.1`, to `t = 100`) against the
+/// mpmath reference: the retiming solves `h'` only as precisely as one step's exact time can be
+/// evaluated, and that error repeated every step put order 2 at `3.8e-13` by `t = 10` and would
+/// reach about `4e-12` at `t = 100`. The refinement of `h'` from the phase gained after 64 and
+/// 512 steps keeps it at round-off (`8e-15` measured).
+#[test]
+fn retimed_dmv_stays_on_the_orbit_over_a_thousand_steps() {
+    use rigid3::RetimedMv;
+    let (b, m0, _) = talk();
+    for order in [2u8, 4] {
+        let mut a = RetimedMv::new(b, 0.1, order).unwrap();
+        let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+        for _ in 0..1000 {
+            a.step_state(&mut s).unwrap();
+        }
+        let e = dist(s.m, TALK_M100);
+        println!("talk order {order}: retimed m at t = 100 off by {e:.1e}");
+        assert!(e <= 5e-14, "order {order}: {e:e}");
+    }
 }
 
 /// After an outside change of `m` or `h`, `RetimedMv` re-solves its step from the last ratio
