@@ -119,6 +119,7 @@ mod orbit;
 mod quat;
 mod real;
 mod rk4;
+mod sincos;
 mod splitting;
 pub mod tangent;
 pub mod torque;
@@ -139,6 +140,7 @@ pub use orbit::Orbit;
 pub use quat::Quaternion;
 pub use real::Real;
 pub use rk4::Rk4;
+pub use sincos::sin_cos;
 pub use splitting::{Splitting, Splitting2};
 pub use torque::{
     ConstantTorque, FnTorque, Gravity, GravityGradient, NoTorque, PeriodicTorque, Torque,

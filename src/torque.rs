@@ -12,6 +12,7 @@
 
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
+use crate::sincos::sin_cos;
 
 /// A body-frame torque as a function of time and attitude.
 ///
@@ -78,8 +79,10 @@ impl<T: Real> Torque<T> for ConstantTorque<T> {
 
 /// A periodic body-frame torque `tau_i(t) = A_i cos(W_i t + P_i)`.
 ///
-/// Three `cos` calls per evaluation (libm: correctly rounded to about an ulp; on a Cortex-M4F
-/// about 1200 instructions each in f32, see the README's firmware table).
+/// Three cosines per evaluation, by the crate's own reduction and polynomial (absolute error at
+/// most `1.5 eps` for `|W_i t + P_i|` up to 6000 rad in f32 and `1e6` in f64, libm's beyond;
+/// about 64 instructions each on a Cortex-M4F, where libm's `cosf` computes in double in
+/// software, about 2000).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PeriodicTorque<T> {
@@ -97,9 +100,9 @@ impl<T: Real> Torque<T> for PeriodicTorque<T> {
         let [w1, w2, w3] = self.freq;
         let [p1, p2, p3] = self.phase;
         [
-            a1 * (w1 * t + p1).cos(),
-            a2 * (w2 * t + p2).cos(),
-            a3 * (w3 * t + p3).cos(),
+            a1 * sin_cos(w1 * t + p1).1,
+            a2 * sin_cos(w2 * t + p2).1,
+            a3 * sin_cos(w3 * t + p3).1,
         ]
     }
     fn depends_on_attitude(&self) -> bool {
@@ -153,7 +156,9 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// `tau = 3 K (r x I r)`, `r = R(q)^T (cos N t, sin N t, 0)`, from the potential
 /// `V = (3K/2) r . I r` (the quadrupole term of `-mu/|R + rho|` integrated over the body;
 /// `K = mu / R^3 = N^2` for a Keplerian circular orbit; Hughes, Spacecraft Attitude Dynamics,
-/// §8.2). The orbit is in the spatial x–y plane. One `sin`/`cos` pair per evaluation.
+/// §8.2). The orbit is in the spatial x–y plane. One `sin`/`cos` pair per evaluation, by the
+/// crate's own reduction and polynomials (absolute error at most `1.5 eps` for `|N t|` up to
+/// 6000 rad in f32, 64 days of a 90-minute orbit, and `1e6` in f64; libm's beyond).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GravityGradient<T> {
@@ -169,8 +174,8 @@ impl<T: Real> GravityGradient<T> {
     /// `r = R(q)^T (cos N t, sin N t, 0)`.
     #[inline]
     fn nadir(&self, t: T, q: &[T; 4]) -> Vec3<T> {
-        let a = self.n * t;
-        let n = Vec3::new(a.cos(), a.sin(), T::ZERO);
+        let (sin, cos) = sin_cos(self.n * t);
+        let n = Vec3::new(cos, sin, T::ZERO);
         Quat::from_array(*q).inverse_rotate(n)
     }
 }

@@ -246,7 +246,10 @@ mod firmware {
             let mut sensors = Sensors { bus: &mut board };
             let star = sensors.star().ok().flatten();
             let t = clock_us as f32 * 1e-6;
-            let orbit = (Real::cos(n * t), Real::sin(n * t));
+            // rigid3's own reduction and polynomials: libm's sinf/cosf are software double
+            // on the M4F (about 4000 instructions for the pair, 64 for sin_cos)
+            let (sin, cos) = rigid3::sin_cos(n * t);
+            let orbit = (cos, sin);
             let shared = bench::since(t0);
             // ... gyro mode: gyro read, complementary filter
             let t1 = bench::now();
@@ -564,6 +567,38 @@ mod firmware {
             sqrt_mismatch
         );
         tables_ok &= sqrt_mismatch == 0;
+
+        // rigid3::sin_cos (the tick's orbit angle) against libm's sinf/cosf, which compute in
+        // double, in software here: the cost of both and their largest difference
+        let mut worst = 0.0f32;
+        let mut x = -3000.0f32;
+        while x < 3000.0 {
+            let (s, c) = rigid3::sin_cos(x);
+            worst = worst
+                .max((s - Real::sin(x)).abs())
+                .max((c - Real::cos(x)).abs());
+            x += 0.7371;
+        }
+        let x0 = core::hint::black_box(1.2345f32);
+        let ours = bench::instructions(|| {
+            for k in 0..100 {
+                core::hint::black_box(rigid3::sin_cos(x0 + k as f32));
+            }
+        }) / 100;
+        let libm_pair = bench::instructions(|| {
+            for k in 0..100 {
+                let a = x0 + k as f32;
+                core::hint::black_box((Real::sin(a), Real::cos(a)));
+            }
+        }) / 100;
+        let worst_eps = worst / f32::EPSILON;
+        defmt::println!(
+            "rigid3::sin_cos f32: {=u32} instructions for both (libm sinf + cosf: {=u32}); largest difference to libm over [-3000, 3000]: {=f32} eps (bound 2: 1.5 + libm's own)",
+            ours,
+            libm_pair,
+            worst_eps
+        );
+        tables_ok &= worst_eps <= 2.0;
 
         let stack = stack_used(bottom, top);
         defmt::println!("stack high-water mark: {=usize} bytes (painted stack); heap: none (no allocator is linked)", stack);
