@@ -122,6 +122,8 @@ mod rk4;
 mod sincos;
 mod splitting;
 pub mod tangent;
+#[cfg(test)]
+mod test_rng;
 pub mod torque;
 
 pub use body::Body;

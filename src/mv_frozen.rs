@@ -129,20 +129,7 @@ impl<T: Real> FrozenMap<T> {
 mod tests {
     use super::*;
 
-    /// A small deterministic generator (the tests' own; the crate has no RNG).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.next()
-        }
-    }
+    use crate::test_rng::Lcg;
 
     /// `x` solving the 3x3 system `a x = b` by Gaussian elimination with partial pivoting.
     #[allow(clippy::needless_range_loop)]

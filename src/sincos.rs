@@ -140,17 +140,7 @@ fn reduction_limit<T: Real>() -> f64 {
 mod tests {
     use super::*;
 
-    /// A small deterministic generator (the tests' own; the crate has no RNG).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::test_rng::Lcg;
 
     /// f32 against libm's f64 `sin`/`cos` of the same (exactly representable) argument, and
     /// f64 against libm's f64 (itself within an ulp): absolute errors in ulps of one, over
