@@ -139,7 +139,8 @@ impl<T: Real> RetimedMv<T> {
         check.steps = check.steps.saturating_add(1);
         if let Some(hp) = check.resume.take() {
             self.inner.set_step_size(hp);
-        } else if check.steps == check.next {
+        } else if check.steps == check.next && check.next != u32::MAX {
+            // (the count saturates after 2^32 steps: no check from then on)
             self.refine(m);
         }
     }
