@@ -31,7 +31,7 @@
 use crate::real::{c, Real};
 
 /// `(sin x, cos x)` in `T` arithmetic, for angles evaluated every tick (an orbit angle, a
-/// torque's phase): 64 instructions for both in f32 on a Cortex-M4F, where libm's `sinf` and
+/// torque's phase): 70 instructions for both in f32 on a Cortex-M4F, where libm's `sinf` and
 /// `cosf` compute in double in software (4003 for the pair at angles of 1–100 rad;
 /// `scripts/firmware`). On x86-64 the two cost about the same.
 ///
@@ -120,8 +120,12 @@ pub fn sin_cos<T: Real>(x: T) -> (T, T) {
         (co, -s)
     } else if q == -T::ONE {
         (-co, s)
-    } else {
+    } else if q.abs() == c::<T>(2.0) {
         (-s, -co)
+    } else {
+        // k was not rounded to an integer: only where the arithmetic keeps excess precision
+        // (x87 without SSE), which the magic-constant rounding needs to be absent
+        (x.sin(), x.cos())
     }
 }
 

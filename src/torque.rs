@@ -81,7 +81,7 @@ impl<T: Real> Torque<T> for ConstantTorque<T> {
 ///
 /// Three cosines per evaluation, by the crate's own reduction and polynomial (absolute error at
 /// most `1.5 eps` for `|W_i t + P_i|` up to 6000 rad in f32 and `1e6` in f64, libm's beyond;
-/// about 64 instructions each on a Cortex-M4F, where libm's `cosf` computes in double in
+/// about 70 instructions each on a Cortex-M4F, where libm's `cosf` computes in double in
 /// software, about 2000).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

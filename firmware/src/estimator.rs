@@ -15,7 +15,7 @@ use rigid3::{Body, Forced, Integrator, Mv, Real, State, StepError};
 /// Gravity gradient for the flight software: [`rigid3::GravityGradient`]'s torque
 /// `3 K (r x I r)`, `r = R(q)^T (cos N t, sin N t, 0)`, with the orbit angle taken from
 /// `(cos, sin)` at the start of the tick (set each tick from the clock by `rigid3::sin_cos`,
-/// 64 instructions; libm's `sinf`/`cosf` pair is about 4000 on the M4F) and advanced
+/// 70 instructions; libm's `sinf`/`cosf` pair is about 4000 on the M4F) and advanced
 /// within the step by its Taylor series (`N h` is 6e-6 rad: exact in f32), instead of a pair
 /// per evaluation.
 #[derive(Clone, Copy, Debug)]

@@ -247,7 +247,7 @@ mod firmware {
             let star = sensors.star().ok().flatten();
             let t = clock_us as f32 * 1e-6;
             // rigid3's own reduction and polynomials: libm's sinf/cosf are software double
-            // on the M4F (about 4000 instructions for the pair, 64 for sin_cos)
+            // on the M4F (about 4000 instructions for the pair, 70 for sin_cos)
             let (sin, cos) = rigid3::sin_cos(n * t);
             let orbit = (cos, sin);
             let shared = bench::since(t0);
