@@ -58,6 +58,9 @@ pub enum StepError {
     NeedsAttitude,
     /// A method was built with an order it does not provide.
     InvalidOrder,
+    /// A rotor was given to a forced scheme whose order assumes the torque is the only
+    /// addition to the free body (the Nyström splittings of `Composed`).
+    RotorUnsupported,
 }
 
 impl fmt::Display for StepError {
@@ -70,6 +73,7 @@ impl fmt::Display for StepError {
             StepError::Overflow => "the result would overflow",
             StepError::NeedsAttitude => "the torque depends on the attitude: step the full state",
             StepError::InvalidOrder => "the method does not provide that order",
+            StepError::RotorUnsupported => "this forced scheme takes no rotor",
         })
     }
 }

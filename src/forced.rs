@@ -54,15 +54,15 @@ use crate::torque::Torque;
 /// Time kept with a compensated sum, so that `t` stays exact to an ulp after `10^9` steps of
 /// a jittering `h` (a plain `t += h` in f32 loses a step in `10^7` at 200 Hz).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Clock<T> {
-    t: T,
+pub(crate) struct Clock<T> {
+    pub(crate) t: T,
     carry: T,
 }
 
 impl<T: Real> Clock<T> {
     /// `(t + h, carry)` by Kahan's summation.
     #[inline]
-    fn after(&self, h: T) -> Self {
+    pub(crate) fn after(&self, h: T) -> Self {
         let y = h - self.carry;
         let t = self.t + y;
         Self {
@@ -74,14 +74,14 @@ impl<T: Real> Clock<T> {
 
 /// The torque at the end of the last step, reused at the start of the next.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct LastKick<T> {
-    t: T,
-    q: [T; 4],
-    tau: Vec3<T>,
+pub(crate) struct LastKick<T> {
+    pub(crate) t: T,
+    pub(crate) q: [T; 4],
+    pub(crate) tau: Vec3<T>,
 }
 
 /// The rotor's half-step turn for step `h`: `None` without a rotor.
-fn half_turn<T: Real>(w: Vec3<T>, h: T) -> Option<Quat<T>> {
+pub(crate) fn half_turn<T: Real>(w: Vec3<T>, h: T) -> Option<Quat<T>> {
     if w.x == T::ZERO && w.y == T::ZERO && w.z == T::ZERO {
         return None;
     }
@@ -99,7 +99,7 @@ fn half_turn<T: Real>(w: Vec3<T>, h: T) -> Option<Quat<T>> {
 
 /// `R(p)^T m`.
 #[inline]
-fn unrotate<T: Real>(p: Quat<T>, m: Vec3<T>) -> Vec3<T> {
+pub(crate) fn unrotate<T: Real>(p: Quat<T>, m: Vec3<T>) -> Vec3<T> {
     p.inverse_rotate(m)
 }
 
@@ -113,27 +113,27 @@ fn unrotate<T: Real>(p: Quat<T>, m: Vec3<T>) -> Vec3<T> {
 /// 22 % error, 47 % after `10^6` steps. The lost part is added to the next kick, so over any
 /// number of steps the applied torque is exact to an ulp of `m` (tests/forced.rs).
 #[inline(always)]
-fn kick<T: Real>(m: Vec3<T>, d: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
+pub(crate) fn kick<T: Real>(m: Vec3<T>, d: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
     let sum = m.add(d);
     (sum, d.sub(sum.sub(m)))
 }
 
 /// What the forced step needs besides the drift.
 #[derive(Clone, Copy, Debug)]
-struct Forcing<T, F> {
-    torque: F,
+pub(crate) struct Forcing<T, F> {
+    pub(crate) torque: F,
     /// Rotor momentum `h_r` (body frame).
-    rotor: Vec3<T>,
+    pub(crate) rotor: Vec3<T>,
     /// `I^-1 h_r`.
-    rotor_w: Vec3<T>,
-    clock: Clock<T>,
-    last: Option<LastKick<T>>,
+    pub(crate) rotor_w: Vec3<T>,
+    pub(crate) clock: Clock<T>,
+    pub(crate) last: Option<LastKick<T>>,
     /// Without torque, `|m|^2` of the trajectory: `(last momentum returned, |m|^2, 1/(2|m|^2))`.
     casimir: Option<(Vec3<T>, T, T)>,
     /// The part of the kicks the rounding of the momentum lost, added to the next kick
     /// ([`kick`]). Kept when the caller changes `m` (a filter's correction): it is torque
     /// impulse that acted, below an ulp of `m`; dropped by `reset`.
-    lost: Vec3<T>,
+    pub(crate) lost: Vec3<T>,
 }
 
 impl<T: Real, F: Torque<T>> Forcing<T, F> {
@@ -144,7 +144,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// returned last (the caller changed it). With a torque `|m|^2` is not conserved and
     /// nothing is done.
     #[inline]
-    fn hold_casimir(&mut self, m_in: Vec3<T>, out: Vec3<T>) -> Vec3<T> {
+    pub(crate) fn hold_casimir(&mut self, m_in: Vec3<T>, out: Vec3<T>) -> Vec3<T> {
         if !self.torque.is_zero() {
             return out;
         }
@@ -167,7 +167,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         held
     }
 
-    fn new(torque: F) -> Self {
+    pub(crate) fn new(torque: F) -> Self {
         Self {
             torque,
             rotor: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
@@ -183,12 +183,12 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     }
 
     /// Restarts the clock at `t` and drops the cached end torque (it was for the old time).
-    fn set_time(&mut self, t: T) {
+    pub(crate) fn set_time(&mut self, t: T) {
         self.clock = Clock { t, carry: T::ZERO };
         self.last = None;
     }
 
-    fn set_rotor(&mut self, body: &Body<T>, h_r: [T; 3]) -> Result<(), StepError> {
+    pub(crate) fn set_rotor(&mut self, body: &Body<T>, h_r: [T; 3]) -> Result<(), StepError> {
         let r = checked_momentum(&h_r)?;
         let w = r.mul_elem(body.inverse_inertia());
         if !w.is_finite() {
@@ -201,7 +201,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
 
     /// The torque at `(t, q)`, reusing the last step's end evaluation when it is the same.
     #[inline]
-    fn torque_at(&self, t: T, q: Quat<T>) -> Result<Vec3<T>, StepError> {
+    pub(crate) fn torque_at(&self, t: T, q: Quat<T>) -> Result<Vec3<T>, StepError> {
         let qa = q.to_array();
         if let Some(l) = self.last {
             if l.t == t && l.q == qa {
@@ -216,7 +216,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         }
     }
 
-    fn total_energy(&self, body: &Body<T>, s: &State<T>) -> Option<T> {
+    pub(crate) fn total_energy(&self, body: &Body<T>, s: &State<T>) -> Option<T> {
         let m = Vec3::from_array(s.m).sub(self.rotor);
         let kinetic = c::<T>(0.5) * m.mul_elem(m).dot(body.inverse_inertia());
         Some(kinetic + self.torque.potential(self.clock.t, &s.q)?)
@@ -535,266 +535,6 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
 
     fn reset(&mut self) {
         self.drift.reset();
-        self.forcing.last = None;
-        self.forcing.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
-    }
-}
-
-// the coefficients keep the digits their sources give
-#[allow(clippy::excessive_precision)]
-/// McLachlan's order-4 five-stage symmetric composition (`p4 s5`): the distinct coefficients
-/// `gamma_1 = gamma_5`, `gamma_2 = gamma_4`, `gamma_3 = 1 - 2 (gamma_1 + gamma_2)` and the
-/// stage pattern.
-const ORDER4: ([f64; 5], &[u8]) = (
-    [
-        0.28,
-        0.625_466_428_467_670_045_01,
-        -0.810_932_856_935_340_090_02,
-        0.0,
-        0.0,
-    ],
-    &[0, 1, 2, 1, 0],
-);
-
-#[allow(clippy::excessive_precision)]
-/// Kahan and Li's order-6 nine-stage symmetric composition (`s9odr6`).
-const ORDER6: ([f64; 5], &[u8]) = (
-    [
-        0.392_161_444_007_314_139_279_250_56,
-        0.332_599_136_789_359_438_599_748_64,
-        -0.706_246_172_557_639_359_809_964_82,
-        0.082_213_596_293_550_800_231_490_45,
-        0.798_543_990_934_829_963_398_950_35,
-    ],
-    &[0, 1, 2, 3, 4, 3, 2, 1, 0],
-);
-
-/// Stage `i`'s drift, length and turn (a match, not indexing: no panic path).
-#[inline]
-fn stage<'a, T: Copy, D>(
-    stages: &'a mut [D; 5],
-    gamma: &[T; 5],
-    turns: &[Option<Quat<T>>; 5],
-    i: u8,
-) -> (&'a mut D, T, Option<Quat<T>>) {
-    let [s0, s1, s2, s3, s4] = stages;
-    let [g0, g1, g2, g3, g4] = *gamma;
-    let [t0, t1, t2, t3, t4] = *turns;
-    match i {
-        0 => (s0, g0, t0),
-        1 => (s1, g1, t1),
-        2 => (s2, g2, t2),
-        3 => (s3, g3, t3),
-        _ => (s4, g4, t4),
-    }
-}
-
-/// A symmetric composition of the forced step ([`Forced`]'s kick–turn–drift–turn–kick) to
-/// order 4 or 6: the step of length `h` is the sequence of forced steps of lengths
-/// `gamma_i h` (see the module docs for the coefficients and their sources).
-///
-/// Each distinct stage length has its own copy of the drift (3 for order 4, 5 for order 6),
-/// so an `Mv` drift keeps its tracked root per stage and re-solves after each kick by one or
-/// two Newton steps. Cost per step: 5 (order 4) or 9 (order 6) drift steps and as many torque
-/// evaluations (consecutive kicks share one). Conserves what [`Forced`] conserves; not
-/// symplectic-breaking (a composition of symplectic maps is symplectic). Errors at `T = 10` on
-/// the forced scenes are in the README's work-precision tables.
-#[derive(Clone, Debug)]
-pub struct Composed<T, D, F> {
-    stages: [D; 5],
-    turns: [Option<Quat<T>>; 5],
-    gamma: [T; 5],
-    pattern: &'static [u8],
-    h: T,
-    forcing: Forcing<T, F>,
-}
-
-impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
-    /// The composition of `order` (4 or 6) of the forced step with `drift` (its step size is
-    /// the composed step `h`) and `torque`, at time zero, without rotor.
-    ///
-    /// # Errors
-    ///
-    /// `InvalidOrder` for an order other than 4 or 6.
-    pub fn new(drift: D, torque: F, order: u8) -> Result<Self, StepError> {
-        let (gamma, pattern) = match order {
-            4 => ORDER4,
-            6 => ORDER6,
-            _ => return Err(StepError::InvalidOrder),
-        };
-        let h = drift.step_size();
-        let gamma = gamma.map(c::<T>);
-        let mut stages = [
-            drift.clone(),
-            drift.clone(),
-            drift.clone(),
-            drift.clone(),
-            drift,
-        ];
-        for (d, g) in stages.iter_mut().zip(gamma) {
-            d.set_step_size(g * h);
-        }
-        Ok(Self {
-            stages,
-            turns: [None; 5],
-            gamma,
-            pattern,
-            h,
-            forcing: Forcing::new(torque),
-        })
-    }
-
-    /// The order (4 or 6).
-    #[must_use]
-    pub fn order(&self) -> u8 {
-        if self.pattern.len() == 5 {
-            4
-        } else {
-            6
-        }
-    }
-
-    /// Sets the rotor momentum `h_r` (body frame), as [`Forced::set_rotor`].
-    ///
-    /// # Errors
-    ///
-    /// `NonFinite` or `Overflow` as [`Forced::set_rotor`]; the rotor is then unchanged.
-    pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
-        let body = *self.stages[0].body();
-        self.forcing.set_rotor(&body, h_r)?;
-        self.update_turns();
-        Ok(())
-    }
-
-    fn update_turns(&mut self) {
-        for (t, g) in self.turns.iter_mut().zip(self.gamma) {
-            *t = half_turn(self.forcing.rotor_w, g * self.h);
-        }
-    }
-
-    /// The rotor momentum.
-    #[must_use]
-    pub fn rotor(&self) -> [T; 3] {
-        self.forcing.rotor.to_array()
-    }
-
-    /// The time of the state.
-    #[must_use]
-    pub fn time(&self) -> T {
-        self.forcing.clock.t
-    }
-
-    /// Sets the time.
-    pub fn set_time(&mut self, t: T) {
-        self.forcing.set_time(t);
-    }
-
-    /// The torque model.
-    #[must_use]
-    pub fn torque(&self) -> &F {
-        &self.forcing.torque
-    }
-
-    /// Total energy (kinetic of the gyrostat plus the potential), `None` without a potential.
-    #[must_use]
-    pub fn total_energy(&self, s: &State<T>) -> Option<T> {
-        self.forcing.total_energy(self.stages[0].body(), s)
-    }
-}
-
-impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed<T, D, F> {
-    fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
-        if self.forcing.torque.depends_on_attitude() {
-            return Err(StepError::NeedsAttitude);
-        }
-        let v0 = checked_momentum(m)?;
-        let mut v = v0;
-        let mut clock = self.forcing.clock;
-        let mut lost = self.forcing.lost;
-        let h = self.h;
-        for &i in self.pattern {
-            let start = clock.t;
-            let (d, g, turn) = stage(&mut self.stages, &self.gamma, &self.turns, i);
-            let hi = g * h;
-            clock = clock.after(hi);
-            v = kdk_momentum(
-                d,
-                &self.forcing.torque,
-                turn,
-                hi,
-                start,
-                clock.t,
-                v,
-                &mut lost,
-            )?;
-        }
-        if self.turns[0].is_some() {
-            v = self.forcing.hold_casimir(v0, v);
-        }
-        self.forcing.lost = lost;
-        *m = v.to_array();
-        self.forcing.clock = clock;
-        Ok(())
-    }
-
-    fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
-        let (m0, mut q) = checked_state(s)?;
-        let mut m = m0;
-        let mut clock = self.forcing.clock;
-        let mut tau = self.forcing.torque_at(clock.t, q)?;
-        let mut lost = self.forcing.lost;
-        let h = self.h;
-        for &i in self.pattern {
-            let (d, g, turn) = stage(&mut self.stages, &self.gamma, &self.turns, i);
-            let hi = g * h;
-            clock = clock.after(hi);
-            (m, q, tau) = kdk(
-                d,
-                &self.forcing.torque,
-                turn,
-                hi,
-                clock.t,
-                m,
-                q,
-                tau,
-                &mut lost,
-            )?;
-        }
-        if self.turns[0].is_some() {
-            m = self.forcing.hold_casimir(m0, m);
-        }
-        self.forcing.lost = lost;
-        s.m = m.to_array();
-        s.q = q.to_array();
-        self.forcing.clock = clock;
-        self.forcing.last = Some(LastKick {
-            t: clock.t,
-            q: s.q,
-            tau,
-        });
-        Ok(())
-    }
-
-    fn step_size(&self) -> T {
-        self.h
-    }
-
-    fn set_step_size(&mut self, h: T) {
-        self.h = h;
-        for (d, g) in self.stages.iter_mut().zip(self.gamma) {
-            d.set_step_size(g * h);
-        }
-        self.update_turns();
-    }
-
-    fn body(&self) -> &Body<T> {
-        self.stages[0].body()
-    }
-
-    fn reset(&mut self) {
-        for d in self.stages.iter_mut() {
-            d.reset();
-        }
         self.forcing.last = None;
         self.forcing.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
     }

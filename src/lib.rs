@@ -100,6 +100,7 @@ pub mod elliptic;
 mod error;
 mod exact;
 mod forced;
+mod forced_composed;
 mod forced_rk4;
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
 mod fpu_sqrt;
@@ -129,7 +130,8 @@ pub mod torque;
 pub use body::Body;
 pub use error::{BodyError, StepError};
 pub use exact::Exact;
-pub use forced::{Composed, Forced};
+pub use forced::Forced;
+pub use forced_composed::Composed;
 pub use forced_rk4::ForcedRk4;
 pub use frame::Frame;
 pub use integrator::{Integrator, State};

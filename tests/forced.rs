@@ -439,3 +439,92 @@ fn f32_small_torques_are_applied_exactly_over_many_steps() {
         assert!(e <= 4.0, "{name}: {e:.1} ulps from the exact momentum");
     }
 }
+
+#[test]
+fn nystrom_splittings_refuse_a_rotor_and_other_orders() {
+    let (body, g, s0) = heavy_top();
+    let drift = || PreMv::new(body, 0.1, 10).unwrap();
+    assert_eq!(
+        Composed::nystrom(drift(), g, 5).err(),
+        Some(StepError::InvalidOrder)
+    );
+    for order in [4, 6] {
+        let mut f = Composed::nystrom(drift(), g, order).unwrap();
+        assert!(f.is_nystrom() && f.order() == order);
+        // a zero rotor is no rotor
+        f.set_rotor([0.0; 3]).unwrap();
+        assert_eq!(
+            f.set_rotor([0.0, 0.1, 0.0]),
+            Err(StepError::RotorUnsupported)
+        );
+        assert_eq!(f.set_rotor([f64::NAN, 0.0, 0.0]), Err(StepError::NonFinite));
+        assert_eq!(f.rotor(), [0.0; 3]);
+        // and the step is still the torque-only one: the same as a fresh scheme's
+        let mut fresh = Composed::nystrom(drift(), g, order).unwrap();
+        let (mut a, mut b) = (s0, s0);
+        f.step_state(&mut a).unwrap();
+        fresh.step_state(&mut b).unwrap();
+        assert_eq!((a.m, a.q), (b.m, b.q));
+    }
+}
+
+#[test]
+fn nystrom_splittings_keep_the_heavy_tops_vertical_momentum_and_energy() {
+    // a Nystrom step is kicks (which keep e_z . R(q) m: gravity has no vertical torque in
+    // space) and PreMv drifts (which keep R(q) m): round-off only. The energy error is the
+    // scheme's, O(h^4) / O(h^6), bounded.
+    let (body, g, s0) = heavy_top();
+    let p0 = vertical_momentum(&s0);
+    for (order, bound) in [(4u8, 1e-6), (6, 1e-8)] {
+        let mut f = Composed::nystrom(PreMv::new(body, 0.1, 10).unwrap(), g, order).unwrap();
+        let e0 = f.total_energy(&s0).unwrap();
+        let mut s = s0;
+        let (mut dp, mut first, mut second) = (0.0f64, 0.0f64, 0.0f64);
+        let n = 20_000;
+        for k in 0..n {
+            f.step_state(&mut s).unwrap();
+            dp = dp.max((vertical_momentum(&s) - p0).abs() / p0.abs());
+            let de = (f.total_energy(&s).unwrap() - e0).abs() / e0.abs();
+            if k < n / 2 {
+                first = first.max(de);
+            } else {
+                second = second.max(de);
+            }
+        }
+        println!("nystrom {order}, heavy top, h = 0.1, 2e4 steps: e_z.R(q)m {dp:e}, energy {first:e} then {second:e}");
+        assert!(dp <= 1e-12, "order {order}: vertical momentum drift {dp:e}");
+        assert!(
+            first <= bound && second <= 2.0 * first.max(1e-14),
+            "order {order}: energy {first:e} then {second:e}"
+        );
+    }
+}
+
+#[test]
+fn nystrom_splittings_reach_their_orders_with_a_periodic_torque() {
+    // a time-dependent torque: the clock advances with the drifts, and the order holds
+    let body = talk();
+    let torque = PeriodicTorque {
+        amplitude: [0.1, -0.05, 0.08],
+        freq: [1.3, 0.7, 2.1],
+        phase: [0.0, 0.5, 1.0],
+    };
+    let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    let t = 2.0;
+    let reference = rk4_reference(body, torque, [0.0; 3], s0, t);
+    for (order, hs) in [(4u8, [0.2, 0.1, 0.05]), (6, [0.5, 0.25, 0.125])] {
+        let e: Vec<f64> = hs
+            .iter()
+            .map(|&h| {
+                let f = Composed::nystrom(PreMv::new(body, h, 10).unwrap(), torque, order).unwrap();
+                error_at(f, s0, t, &reference)
+            })
+            .collect();
+        let p = slope(&hs, &e);
+        println!("nystrom {order}, periodic torque: order {p:.3} {e:?}");
+        assert!(
+            (p - f64::from(order)).abs() <= 0.15,
+            "order {order}: {p} {e:?}"
+        );
+    }
+}

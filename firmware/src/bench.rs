@@ -209,6 +209,11 @@ pub fn overhead(m0: [f32; 3]) -> u32 {
 // ---------------------------------------------------------------- regimes table
 
 /// Instructions per step of `f(k)` (k = 0..BENCH_STEPS) less `base` per step.
+///
+/// Never inlined: each measured loop is then a function of its own, with its own register
+/// allocation. Inlined, every loop sat in one 50 KB `run` and its spills moved with unrelated
+/// code (adding the f64 truth's Nyström splitting moved the forced step 550 -> 563).
+#[inline(never)]
 pub fn per_step(base: u32, mut f: impl FnMut(u32)) -> u32 {
     let n = instructions(|| {
         for k in 0..BENCH_STEPS {

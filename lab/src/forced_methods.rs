@@ -1,7 +1,7 @@
 //! Forced methods behind one name: the torques of a scene, and every forced integrator.
 
 use rigid3::{
-    Body, Composed, Forced, ForcedRk4, Gravity, GravityGradient, Integrator, Midpoint, Mv,
+    Body, Composed, Exact, Forced, ForcedRk4, Gravity, GravityGradient, Integrator, Midpoint, Mv,
     PeriodicTorque, PreMv, Real, Splitting, State, Torque,
 };
 use serde::{Deserialize, Serialize};
@@ -126,6 +126,12 @@ pub const FORCED_METHODS: &[&str] = &[
     "forced6",
     "forced4-pre4",
     "forced6-pre6",
+    "nystrom4-pre6",
+    "nystrom6-pre6",
+    "nystrom4-pre10",
+    "nystrom6-pre10",
+    "nystrom4-exact",
+    "nystrom6-exact",
     "rk4",
     "midpoint",
     "splitting",
@@ -142,6 +148,12 @@ pub fn describe_forced(name: &str) -> &'static str {
         "forced6" => "Kahan-Li 9-stage symmetric composition of the Mv kick-drift-kick, order 6",
         "forced4-pre4" => "forced4 with the order-4 PreMv drift",
         "forced6-pre6" => "forced6 with the order-6 PreMv drift",
+        "nystrom4-pre6" | "nystrom4-pre10" | "nystrom4-exact" => {
+            "Blanes-Moan SRKN_6^b Nystrom splitting (kicks, near-exact drifts: PreMv or Exact), order 4, no rotor"
+        }
+        "nystrom6-pre6" | "nystrom6-pre10" | "nystrom6-exact" => {
+            "Blanes-Moan SRKN_11^b Nystrom splitting (kicks, near-exact drifts: PreMv or Exact), order 6, no rotor"
+        }
         "rk4" => "classical Runge-Kutta on the full forced equations, order 4",
         "midpoint" => "kick-drift-kick around the implicit midpoint rule (Newton), order 2",
         "splitting" => "kick-drift-kick around McLachlan's 5-rotation splitting (Strang), order 2",
@@ -177,6 +189,17 @@ pub fn make_forced<T: Real + 'static>(
         f.set_rotor(rotor).ok()?;
         Some(Box::new(f))
     }
+    fn nystrom<T: Real + 'static, D: Integrator<T> + Clone + 'static>(
+        drift: D,
+        torque: SceneTorque<T>,
+        rotor: [T; 3],
+        order: u8,
+    ) -> Option<Box<dyn Integrator<T>>> {
+        // a scene with a rotor has no Nystrom splitting: None, as for an unknown name
+        let mut f = Composed::nystrom(drift, torque, order).ok()?;
+        f.set_rotor(rotor).ok()?;
+        Some(Box::new(f))
+    }
     match name {
         "mv" => forced(Mv::new(body, h), torque, rotor),
         "pre-mv4" => forced(PreMv::new(body, h, 4).ok()?, torque, rotor),
@@ -187,6 +210,12 @@ pub fn make_forced<T: Real + 'static>(
         "forced6" => composed(Mv::new(body, h), torque, rotor, 6),
         "forced4-pre4" => composed(PreMv::new(body, h, 4).ok()?, torque, rotor, 4),
         "forced6-pre6" => composed(PreMv::new(body, h, 6).ok()?, torque, rotor, 6),
+        "nystrom4-pre6" => nystrom(PreMv::new(body, h, 6).ok()?, torque, rotor, 4),
+        "nystrom6-pre6" => nystrom(PreMv::new(body, h, 6).ok()?, torque, rotor, 6),
+        "nystrom4-pre10" => nystrom(PreMv::new(body, h, 10).ok()?, torque, rotor, 4),
+        "nystrom6-pre10" => nystrom(PreMv::new(body, h, 10).ok()?, torque, rotor, 6),
+        "nystrom4-exact" => nystrom(Exact::new(body, h), torque, rotor, 4),
+        "nystrom6-exact" => nystrom(Exact::new(body, h), torque, rotor, 6),
         "rk4" => {
             let mut r = ForcedRk4::new(body, h, torque);
             r.set_rotor(rotor).ok()?;

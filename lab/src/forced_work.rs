@@ -61,7 +61,7 @@ pub fn charted_scenes() -> Vec<ForcedScene> {
 }
 
 /// The forced methods of rigid3 competing for "best".
-pub const RIGID3_FORCED: [&str; 8] = [
+pub const RIGID3_FORCED: [&str; 14] = [
     "mv",
     "pre-mv4",
     "pre-mv6",
@@ -70,6 +70,12 @@ pub const RIGID3_FORCED: [&str; 8] = [
     "forced6",
     "forced4-pre4",
     "forced6-pre6",
+    "nystrom4-pre6",
+    "nystrom6-pre6",
+    "nystrom4-pre10",
+    "nystrom6-pre10",
+    "nystrom4-exact",
+    "nystrom6-exact",
 ];
 
 /// The baselines of the acceptance: RK4 on the full equations and the Strang splitting with
@@ -77,7 +83,7 @@ pub const RIGID3_FORCED: [&str; 8] = [
 pub const FORCED_BASELINES: [&str; 3] = ["rk4", "splitting", "midpoint"];
 
 /// Every forced method of the charts.
-pub const FORCED_CHART: [&str; 10] = [
+pub const FORCED_CHART: [&str; 12] = [
     "mv",
     "pre-mv4",
     "pre-mv10",
@@ -85,6 +91,8 @@ pub const FORCED_CHART: [&str; 10] = [
     "forced6",
     "forced4-pre4",
     "forced6-pre6",
+    "nystrom4-pre10",
+    "nystrom6-pre10",
     "rk4",
     "splitting",
     "midpoint",

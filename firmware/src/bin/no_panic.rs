@@ -212,6 +212,12 @@ mod firmware {
                 let _ = c.set_rotor(rotor);
                 exercise(c, k + 11);
             }
+            if let Ok(pre) = PreMv::new(body, h, 10) {
+                if let Ok(mut c) = Composed::nystrom(pre, torque, 4) {
+                    let _ = c.set_rotor(rotor);
+                    exercise(c, k + 11);
+                }
+            }
             let mut r = ForcedRk4::new(body, h, torque);
             let _ = r.set_rotor(rotor);
             exercise(r, k + 12);

@@ -59,6 +59,8 @@ pub fn style(method: &str) -> (RGBColor, Mark, bool) {
         "forced6" => (RGBColor(0, 0, 139), Mark::Square, false),
         "forced4-pre4" => (RGBColor(0, 100, 0), Mark::Cross, true),
         "forced6-pre6" => (RGBColor(0, 0, 139), Mark::Cross, true),
+        "nystrom4-pre10" => (RGBColor(200, 0, 90), Mark::Triangle, false),
+        "nystrom6-pre10" => (RGBColor(110, 0, 160), Mark::Square, false),
         _ => (RGBColor(100, 100, 100), Mark::None, false),
     }
 }
