@@ -56,6 +56,14 @@ pub trait Real:
     /// Cosine, libm (about 1 ulp).
     #[must_use]
     fn cos(self) -> Self;
+    /// `(sin x, cos x)`: by default the two calls above (libm, about 1 ulp each). A type
+    /// whose sine and cosine can share their work (one reduction, a polynomial pair, as
+    /// [`crate::sin_cos`]) overrides it; the splitting's rotations take both at once.
+    #[must_use]
+    #[inline]
+    fn sin_cos(self) -> (Self, Self) {
+        (Real::sin(self), Real::cos(self))
+    }
     /// Arc cosine, libm (about 1 ulp).
     #[must_use]
     fn acos(self) -> Self;

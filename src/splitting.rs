@@ -23,17 +23,17 @@ fn rotate_momentum<T: Real>(m: Vec3<T>, axis: usize, w_per_m: T, t: T) -> Vec3<T
     match axis {
         0 => {
             let a = t * m.x * w_per_m;
-            let (s, cs) = (a.sin(), a.cos());
+            let (s, cs) = a.sin_cos();
             Vec3::new(m.x, cs * m.y + s * m.z, cs * m.z - s * m.y)
         }
         1 => {
             let a = t * m.y * w_per_m;
-            let (s, cs) = (a.sin(), a.cos());
+            let (s, cs) = a.sin_cos();
             Vec3::new(cs * m.x - s * m.z, m.y, cs * m.z + s * m.x)
         }
         _ => {
             let a = t * m.z * w_per_m;
-            let (s, cs) = (a.sin(), a.cos());
+            let (s, cs) = a.sin_cos();
             Vec3::new(cs * m.x + s * m.y, cs * m.y - s * m.x, m.z)
         }
     }
@@ -55,7 +55,7 @@ fn rotate_state<T: Real>(
         _ => m.z,
     };
     let half = t * mi * w_per_m * c::<T>(0.5);
-    let (sh, ch) = (half.sin(), half.cos());
+    let (sh, ch) = half.sin_cos();
     let s = c::<T>(2.0) * sh * ch;
     let cs = ch * ch - sh * sh;
     let z = T::ZERO;
@@ -268,11 +268,12 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
         let q = if n2 > T::ZERO {
             let n = n2.sqrt();
             let half = self.c * h * n * c::<T>(0.5);
-            let k = half.sin() / n;
+            let (sh, ch) = half.sin_cos();
+            let k = sh / n;
             compose_attitude(
                 q,
                 Quat {
-                    w: half.cos(),
+                    w: ch,
                     x: v.x * k,
                     y: v.y * k,
                     z: v.z * k,

@@ -30,89 +30,115 @@ pub fn since(t0: u32) -> u32 {
 
 pub const BENCH_STEPS: u32 = 2000;
 
-/// `f32` whose `sin` and `cos` are micromath's approximations (about 1e-3 absolute error,
-/// no libm call): everything else is `f32`. Shows the `Real` trait taking a wrapper, and
-/// what the splitting costs when its trigonometry is cheap and inaccurate.
-#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
-pub struct Fast(pub f32);
+/// An `f32` wrapper whose `sin` and `cos` are `$sin` and `$cos`: everything else is `f32`.
+/// Shows the `Real` trait taking a wrapper, and what the splitting costs when its trigonometry
+/// is not libm's (which computes `sinf`/`cosf` in software double on the M4F).
+macro_rules! trig_f32 {
+    ($(#[$doc:meta])* $name:ident, $sin:expr, $cos:expr, $sincos:expr) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+        pub struct $name(pub f32);
 
-macro_rules! fast_op {
-    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
-        impl core::ops::$tr for Fast {
-            type Output = Fast;
+        trig_f32!(@op $name, Add, add, AddAssign, add_assign, +);
+        trig_f32!(@op $name, Sub, sub, SubAssign, sub_assign, -);
+        trig_f32!(@op $name, Mul, mul, MulAssign, mul_assign, *);
+        impl core::ops::Div for $name {
+            type Output = $name;
             #[inline]
-            fn $f(self, o: Fast) -> Fast {
-                Fast(self.0 $op o.0)
+            fn div(self, o: $name) -> $name {
+                $name(self.0 / o.0)
             }
         }
-        impl core::ops::$tra for Fast {
+        impl core::ops::Neg for $name {
+            type Output = $name;
             #[inline]
-            fn $fa(&mut self, o: Fast) {
+            fn neg(self) -> $name {
+                $name(-self.0)
+            }
+        }
+        impl Real for $name {
+            const EPSILON: Self = $name(f32::EPSILON);
+            const MIN_POSITIVE: Self = $name(f32::MIN_POSITIVE);
+            const MAX: Self = $name(f32::MAX);
+            const ZERO: Self = $name(0.0);
+            const ONE: Self = $name(1.0);
+            fn from_f64(x: f64) -> Self {
+                $name(x as f32)
+            }
+            fn to_f64(self) -> f64 {
+                self.0 as f64
+            }
+            fn sqrt(self) -> Self {
+                $name(Real::sqrt(self.0))
+            }
+            fn abs(self) -> Self {
+                $name(Real::abs(self.0))
+            }
+            fn sin(self) -> Self {
+                $name($sin(self.0))
+            }
+            fn cos(self) -> Self {
+                $name($cos(self.0))
+            }
+            fn sin_cos(self) -> (Self, Self) {
+                let (s, c) = $sincos(self.0);
+                ($name(s), $name(c))
+            }
+            fn acos(self) -> Self {
+                $name(Real::acos(self.0))
+            }
+            fn atan2(self, x: Self) -> Self {
+                $name(Real::atan2(self.0, x.0))
+            }
+            fn cbrt(self) -> Self {
+                $name(Real::cbrt(self.0))
+            }
+            fn ln(self) -> Self {
+                $name(Real::ln(self.0))
+            }
+            fn exp(self) -> Self {
+                $name(Real::exp(self.0))
+            }
+            fn is_finite(self) -> bool {
+                self.0.is_finite()
+            }
+        }
+    };
+    (@op $name:ident, $tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+        impl core::ops::$tr for $name {
+            type Output = $name;
+            #[inline]
+            fn $f(self, o: $name) -> $name {
+                $name(self.0 $op o.0)
+            }
+        }
+        impl core::ops::$tra for $name {
+            #[inline]
+            fn $fa(&mut self, o: $name) {
                 self.0 = self.0 $op o.0;
             }
         }
     };
 }
-fast_op!(Add, add, AddAssign, add_assign, +);
-fast_op!(Sub, sub, SubAssign, sub_assign, -);
-fast_op!(Mul, mul, MulAssign, mul_assign, *);
-impl core::ops::Div for Fast {
-    type Output = Fast;
-    #[inline]
-    fn div(self, o: Fast) -> Fast {
-        Fast(self.0 / o.0)
-    }
-}
-impl core::ops::Neg for Fast {
-    type Output = Fast;
-    #[inline]
-    fn neg(self) -> Fast {
-        Fast(-self.0)
-    }
-}
-impl Real for Fast {
-    const EPSILON: Self = Fast(f32::EPSILON);
-    const MIN_POSITIVE: Self = Fast(f32::MIN_POSITIVE);
-    const MAX: Self = Fast(f32::MAX);
-    const ZERO: Self = Fast(0.0);
-    const ONE: Self = Fast(1.0);
-    fn from_f64(x: f64) -> Self {
-        Fast(x as f32)
-    }
-    fn to_f64(self) -> f64 {
-        self.0 as f64
-    }
-    fn sqrt(self) -> Self {
-        Fast(Real::sqrt(self.0))
-    }
-    fn abs(self) -> Self {
-        Fast(Real::abs(self.0))
-    }
-    fn sin(self) -> Self {
-        Fast(micromath::F32Ext::sin(self.0))
-    }
-    fn cos(self) -> Self {
-        Fast(micromath::F32Ext::cos(self.0))
-    }
-    fn acos(self) -> Self {
-        Fast(Real::acos(self.0))
-    }
-    fn atan2(self, x: Self) -> Self {
-        Fast(Real::atan2(self.0, x.0))
-    }
-    fn cbrt(self) -> Self {
-        Fast(Real::cbrt(self.0))
-    }
-    fn ln(self) -> Self {
-        Fast(Real::ln(self.0))
-    }
-    fn exp(self) -> Self {
-        Fast(Real::exp(self.0))
-    }
-    fn is_finite(self) -> bool {
-        self.0.is_finite()
-    }
-}
+
+trig_f32!(
+    /// `f32` with micromath's `sin` and `cos` (about 1e-3 absolute error, no libm call).
+    Fast,
+    micromath::F32Ext::sin,
+    micromath::F32Ext::cos,
+    |x: f32| (micromath::F32Ext::sin(x), micromath::F32Ext::cos(x))
+);
+
+trig_f32!(
+    /// `f32` with `rigid3::sin_cos` (at most 1.5 eps absolute error up to 6000 rad, reduction
+    /// by `pi/2` and polynomials in `f32`): the splitting with accurate trigonometry that
+    /// costs what an FPU's arithmetic costs.
+    Poly,
+    |x: f32| rigid3::sin_cos(x).0,
+    |x: f32| rigid3::sin_cos(x).1,
+    rigid3::sin_cos
+);
+
 // ---------------------------------------------------------------- momentum table
 
 /// One row of the momentum table: instructions per momentum step (empty-loop overhead removed)
@@ -162,7 +188,7 @@ fn momentum_row<T: Real, I: Integrator<T>>(
 }
 
 /// The methods of the momentum table, in its order.
-pub const MOMENTUM_METHODS: [&str; 9] = [
+pub const MOMENTUM_METHODS: [&str; 10] = [
     "mv          ",
     "seed-mv     ",
     "pre-mv4     ",
@@ -171,6 +197,7 @@ pub const MOMENTUM_METHODS: [&str; 9] = [
     "pre-mv10    ",
     "splitting   ",
     "splitting-mm",
+    "splitting-sc",
     "rk4         ",
 ];
 
@@ -191,6 +218,10 @@ pub fn momentum_method(
         7 => {
             let fb = Body::<Fast>::from_inertia(body.inertia().map(Fast)).ok()?;
             momentum_row(Splitting::new(fb, Fast(h)), fb, m0.map(Fast), overhead)
+        }
+        8 => {
+            let pb = Body::<Poly>::from_inertia(body.inertia().map(Poly)).ok()?;
+            momentum_row(Splitting::new(pb, Poly(h)), pb, m0.map(Poly), overhead)
         }
         _ => momentum_row(Rk4::new(body, h), body, m0, overhead),
     })
