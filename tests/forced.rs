@@ -528,3 +528,96 @@ fn nystrom_splittings_reach_their_orders_with_a_periodic_torque() {
         );
     }
 }
+
+#[test]
+fn composed_bad_input_is_refused_and_leaves_everything_untouched() {
+    // a torque that turns non-finite inside a step (between two of its drifts): both kinds of
+    // scheme refuse the step and keep the state and the time
+    let (body, _, s0) = heavy_top();
+    let bad = FnTorque(|t: f64, _q: &[f64; 4]| {
+        if t > 0.25 {
+            [f64::NAN, 0.0, 0.0]
+        } else {
+            [0.01, 0.0, 0.0]
+        }
+    });
+    let schemes: [(&str, Composed<f64, PreMv<f64>, _>); 2] = [
+        (
+            "composition",
+            Composed::new(PreMv::new(body, 0.2, 10).unwrap(), bad, 4).unwrap(),
+        ),
+        (
+            "nystrom",
+            Composed::nystrom(PreMv::new(body, 0.2, 10).unwrap(), bad, 4).unwrap(),
+        ),
+    ];
+    for (name, mut f) in schemes {
+        let mut s = s0;
+        f.step_state(&mut s).unwrap();
+        let (before, t) = (s, f.time());
+        assert_eq!(f.step_state(&mut s), Err(StepError::NonFinite), "{name}");
+        assert_eq!((s, f.time()), (before, t), "{name}");
+        // momentum only: refused (the torque may depend on the attitude), nothing moved
+        let mut m = before.m;
+        assert_eq!(f.step(&mut m), Err(StepError::NeedsAttitude), "{name}");
+        assert_eq!((m, f.time()), (before.m, t), "{name}");
+        // a non-finite state
+        let mut s = State::new([f64::NAN, 0.0, 0.0], s0.q);
+        assert_eq!(f.step_state(&mut s), Err(StepError::NonFinite), "{name}");
+    }
+}
+
+#[test]
+fn f32_nystrom_heavy_top_is_stable() {
+    let body = Body::<f32>::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let g = Gravity {
+        mg: 1.0f32,
+        com: [0.2, -0.1, 0.5],
+    };
+    for order in [4, 6] {
+        let mut f = Composed::nystrom(PreMv::new(body, 0.05f32, 10).unwrap(), g, order).unwrap();
+        let mut s = State::new([0.3f32, -0.6, 1.1], [0.923_879_5, 0.382_683_43, 0.0, 0.0]);
+        let p0 = s.spatial_momentum()[2] as f64;
+        let e0 = f.total_energy(&s).unwrap() as f64;
+        let (mut dp, mut de) = (0.0f64, 0.0f64);
+        for _ in 0..20_000 {
+            f.step_state(&mut s).unwrap();
+            dp = dp.max((s.spatial_momentum()[2] as f64 - p0).abs() / p0.abs());
+            de = de.max((f.total_energy(&s).unwrap() as f64 - e0).abs() / e0.abs());
+        }
+        println!("f32 nystrom {order}, 2e4 steps: e_z.R(q)m {dp:e}, energy {de:e}");
+        assert!(dp <= 1e-4, "order {order}: f32 vertical momentum {dp:e}");
+        assert!(de <= 1e-4, "order {order}: f32 energy {de:e}");
+    }
+}
+
+#[test]
+fn composed_momentum_only_steps_agree_with_full_steps() {
+    // a torque of time only: `step` (momentum) and `step_state` give the same momentum, for
+    // both kinds of scheme
+    let body = talk();
+    let torque = PeriodicTorque {
+        amplitude: [0.1, -0.05, 0.08],
+        freq: [1.3, 0.7, 2.1],
+        phase: [0.0, 0.5, 1.0],
+    };
+    for nystrom in [false, true] {
+        let make = || {
+            let d = PreMv::new(body, 0.1, 10).unwrap();
+            if nystrom {
+                Composed::nystrom(d, torque, 6).unwrap()
+            } else {
+                Composed::new(d, torque, 6).unwrap()
+            }
+        };
+        let (mut a, mut b) = (make(), make());
+        let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+        let mut m = TALK_M0;
+        for _ in 0..100 {
+            a.step_state(&mut s).unwrap();
+            b.step(&mut m).unwrap();
+        }
+        assert!(dist(m, s.m) <= 1e-13, "nystrom {nystrom}: {m:?} {:?}", s.m);
+        assert_eq!(a.time(), b.time());
+    }
+}
