@@ -15,6 +15,15 @@ fn talk() -> Body<f64> {
     Body::from_mass_matrix(TALK_J).unwrap()
 }
 
+/// The periodic body torque of the forced references' `body_torque` scene.
+fn periodic() -> PeriodicTorque<f64> {
+    PeriodicTorque {
+        amplitude: [0.1, -0.05, 0.08],
+        freq: [1.3, 0.7, 2.1],
+        phase: [0.0, 0.5, 1.0],
+    }
+}
+
 fn qdist(a: [f64; 4], b: [f64; 4]) -> f64 {
     let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
     let s: f64 = a.iter().zip(b).map(|(x, y)| (x + y).powi(2)).sum();
@@ -192,11 +201,7 @@ fn orders_two_four_six_on_the_heavy_top() {
 #[test]
 fn periodic_torque_and_rotor_orders_with_pre_mv_drift() {
     let body = talk();
-    let torque = PeriodicTorque {
-        amplitude: [0.1, -0.05, 0.08],
-        freq: [1.3, 0.7, 2.1],
-        phase: [0.0, 0.5, 1.0],
-    };
+    let torque = periodic();
     let rotor = [0.2, -0.1, 0.3];
     let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
     let t = 2.0;
@@ -259,11 +264,7 @@ fn a_step_back_undoes_a_step() {
 fn given_torques_match_the_model() {
     // step_state_with(tau(t), tau(t + h)) is the model's step for a torque of time only
     let body = talk();
-    let torque = PeriodicTorque {
-        amplitude: [0.1, -0.05, 0.08],
-        freq: [1.3, 0.7, 2.1],
-        phase: [0.0, 0.5, 1.0],
-    };
+    let torque = periodic();
     let h = 0.05;
     let mut model = Forced::new(Mv::new(body, h), torque);
     let mut given = Forced::new(Mv::new(body, h), NoTorque);
@@ -504,11 +505,7 @@ fn nystrom_splittings_keep_the_heavy_tops_vertical_momentum_and_energy() {
 fn nystrom_splittings_reach_their_orders_with_a_periodic_torque() {
     // a time-dependent torque: the clock advances with the drifts, and the order holds
     let body = talk();
-    let torque = PeriodicTorque {
-        amplitude: [0.1, -0.05, 0.08],
-        freq: [1.3, 0.7, 2.1],
-        phase: [0.0, 0.5, 1.0],
-    };
+    let torque = periodic();
     let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
     let t = 2.0;
     let reference = rk4_reference(body, torque, [0.0; 3], s0, t);
@@ -596,11 +593,7 @@ fn composed_momentum_only_steps_agree_with_full_steps() {
     // a torque of time only: `step` (momentum) and `step_state` give the same momentum, for
     // both kinds of scheme
     let body = talk();
-    let torque = PeriodicTorque {
-        amplitude: [0.1, -0.05, 0.08],
-        freq: [1.3, 0.7, 2.1],
-        phase: [0.0, 0.5, 1.0],
-    };
+    let torque = periodic();
     for nystrom in [false, true] {
         let make = || {
             let d = PreMv::new(body, 0.1, 10).unwrap();
