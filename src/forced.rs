@@ -223,6 +223,43 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     }
 }
 
+/// The accessors [`Forced`] and [`crate::Composed`] share: both keep their torque, rotor and
+/// clock in a [`Forcing`] field named `forcing`.
+macro_rules! forcing_accessors {
+    () => {
+        /// The rotor momentum `h_r` (body frame).
+        #[must_use]
+        pub fn rotor(&self) -> [T; 3] {
+            self.forcing.rotor.to_array()
+        }
+
+        /// The time of the state: advanced by each step's `h` with a compensated sum, so it
+        /// stays exact to an ulp of `t` under a jittering `h`.
+        #[must_use]
+        pub fn time(&self) -> T {
+            self.forcing.clock.t
+        }
+
+        /// Sets the time (for time-dependent torques); the cached end torque is dropped.
+        pub fn set_time(&mut self, t: T) {
+            self.forcing.set_time(t);
+        }
+
+        /// The torque model.
+        #[must_use]
+        pub fn torque(&self) -> &F {
+            &self.forcing.torque
+        }
+
+        /// The torque model, to change its parameters (the cached end torque is dropped).
+        pub fn torque_mut(&mut self) -> &mut F {
+            self.forcing.last = None;
+            &mut self.forcing.torque
+        }
+    };
+}
+pub(crate) use forcing_accessors;
+
 /// A state after a forced step, and the torque at its end (the next step's start torque).
 type Kicked<T> = (Vec3<T>, Quat<T>, Vec3<T>);
 
@@ -364,34 +401,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         Ok(())
     }
 
-    /// The rotor momentum `h_r`.
-    #[must_use]
-    pub fn rotor(&self) -> [T; 3] {
-        self.forcing.rotor.to_array()
-    }
-
-    /// The time of the state (advanced by `h` each step, with a compensated sum).
-    #[must_use]
-    pub fn time(&self) -> T {
-        self.forcing.clock.t
-    }
-
-    /// Sets the time (for time-dependent torques).
-    pub fn set_time(&mut self, t: T) {
-        self.forcing.set_time(t);
-    }
-
-    /// The torque model.
-    #[must_use]
-    pub fn torque(&self) -> &F {
-        &self.forcing.torque
-    }
-
-    /// The torque model, to change its parameters (the cached torque is dropped).
-    pub fn torque_mut(&mut self) -> &mut F {
-        self.forcing.last = None;
-        &mut self.forcing.torque
-    }
+    forcing_accessors!();
 
     /// The free integrator.
     #[must_use]

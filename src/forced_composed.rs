@@ -39,7 +39,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::forced::{half_turn, kick, unrotate, Forcing, LastKick};
+use crate::forced::{forcing_accessors, half_turn, kick, unrotate, Forcing, LastKick};
 use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -324,28 +324,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         }
     }
 
-    /// The rotor momentum.
-    #[must_use]
-    pub fn rotor(&self) -> [T; 3] {
-        self.forcing.rotor.to_array()
-    }
-
-    /// The time of the state.
-    #[must_use]
-    pub fn time(&self) -> T {
-        self.forcing.clock.t
-    }
-
-    /// Sets the time.
-    pub fn set_time(&mut self, t: T) {
-        self.forcing.set_time(t);
-    }
-
-    /// The torque model.
-    #[must_use]
-    pub fn torque(&self) -> &F {
-        &self.forcing.torque
-    }
+    forcing_accessors!();
 
     /// Total energy (kinetic of the gyrostat plus the potential), `None` without a potential.
     #[must_use]
