@@ -167,6 +167,29 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         held
     }
 
+    /// Writes a successful step's state and keeps what the next step starts from: the clock,
+    /// the kicks' lost rounding and the end torque (reused while `t` and `q` are unchanged).
+    #[inline]
+    pub(crate) fn commit(
+        &mut self,
+        s: &mut State<T>,
+        m: Vec3<T>,
+        q: Quat<T>,
+        clock: Clock<T>,
+        lost: Vec3<T>,
+        tau: Vec3<T>,
+    ) {
+        s.m = m.to_array();
+        s.q = q.to_array();
+        self.clock = clock;
+        self.lost = lost;
+        self.last = Some(LastKick {
+            t: clock.t,
+            q: s.q,
+            tau,
+        });
+    }
+
     pub(crate) fn new(torque: F) -> Self {
         Self {
             torque,
@@ -518,15 +541,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         } else {
             m
         };
-        self.forcing.lost = lost;
-        s.m = m.to_array();
-        s.q = q.to_array();
-        self.forcing.clock = clock;
-        self.forcing.last = Some(LastKick {
-            t: clock.t,
-            q: s.q,
-            tau: tau1,
-        });
+        self.forcing.commit(s, m, q, clock, lost, tau1);
         Ok(())
     }
 

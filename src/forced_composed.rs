@@ -39,7 +39,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::forced::{forcing_accessors, half_turn, kick, unrotate, Forcing, LastKick};
+use crate::forced::{forcing_accessors, half_turn, kick, unrotate, Forcing};
 use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -410,15 +410,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         if self.turns[0].is_some() {
             m = self.forcing.hold_casimir(m0, m);
         }
-        self.forcing.lost = lost;
-        s.m = m.to_array();
-        s.q = q.to_array();
-        self.forcing.clock = clock;
-        self.forcing.last = Some(LastKick {
-            t: clock.t,
-            q: s.q,
-            tau,
-        });
+        self.forcing.commit(s, m, q, clock, lost, tau);
         Ok(())
     }
 
