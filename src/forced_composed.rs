@@ -193,8 +193,9 @@ fn stage<'a, T: Copy, D>(
 ///
 /// Each distinct drift length has its own copy of the drift (up to 6), so an `Mv` or `PreMv`
 /// drift keeps its tracked root and modified body per stage. Cost per step: 5, 9, 6 or 11
-/// drifts (composition 4, 6; Nyström 4, 6), one torque evaluation per drift (the end one is
-/// reused by the next step) and one kick more than drifts (15 flops each, their rounding
+/// drifts (composition 4, 6; Nyström 4, 6), one torque evaluation per drift plus the start
+/// one (with attitude, [`Integrator::step_state`] reuses the last step's end torque instead) and
+/// one kick more than drifts (15 flops each, their rounding
 /// carried as in [`crate::Forced`]). Conserves what [`crate::Forced`] conserves and, for a
 /// potential torque and a symplectic drift, is symplectic. Errors at `T = 10` on the forced
 /// scenes are in the README's work-precision tables.
@@ -350,9 +351,11 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let id = [T::ONE, T::ZERO, T::ZERO, T::ZERO];
         let v0 = checked_momentum(m)?;
         let mut clock = self.forcing.clock;
+        let end = clock.after(self.h);
+        let last = self.pattern.len() - 1;
         let mut tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &id));
         let (mut v, mut lost) = kick(v0, tau.scale(self.kick_len[0]).add(self.forcing.lost));
-        for (&i, &b) in self.pattern.iter().zip(self.kick_len.iter().skip(1)) {
+        for (k, (&i, &b)) in self.pattern.iter().zip(self.kick_len.iter().skip(1)).enumerate() {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
             if let Some(p) = turn {
                 v = unrotate(p, v);
@@ -363,7 +366,8 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             if let Some(p) = turn {
                 v = unrotate(p, v);
             }
-            clock = clock.after(a);
+            // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
+            clock = if k == last { end } else { clock.after(a) };
             tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &id));
             (v, lost) = kick(v, tau.scale(b).add(lost));
         }
@@ -382,10 +386,12 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (m0, q0) = checked_state(s)?;
         let mut clock = self.forcing.clock;
+        let end = clock.after(self.h);
+        let last = self.pattern.len() - 1;
         let mut tau = self.forcing.torque_at(clock.t, q0)?;
         let (mut m, mut lost) = kick(m0, tau.scale(self.kick_len[0]).add(self.forcing.lost));
         let mut q = q0;
-        for (&i, &b) in self.pattern.iter().zip(self.kick_len.iter().skip(1)) {
+        for (k, (&i, &b)) in self.pattern.iter().zip(self.kick_len.iter().skip(1)).enumerate() {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
             if let Some(p) = turn {
                 m = unrotate(p, m);
@@ -400,7 +406,8 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
                 m = unrotate(p, m);
                 q = compose_attitude(q, p);
             }
-            clock = clock.after(a);
+            // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
+            clock = if k == last { end } else { clock.after(a) };
             tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &q.to_array()));
             (m, lost) = kick(m, tau.scale(b).add(lost));
         }
