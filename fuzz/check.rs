@@ -38,7 +38,8 @@ pub const METHODS: [&str; 11] = [
 /// Counts of outcomes, indexed like [`OUTCOMES`].
 pub type Tally = [u32; 7];
 
-fn kind(r: &Result<(), StepError>) -> usize {
+/// The column of an outcome in a [`Tally`].
+pub fn kind(r: &Result<(), StepError>) -> usize {
     match r {
         Ok(()) => 0,
         Err(StepError::NonFinite) => 1,
@@ -84,7 +85,8 @@ impl<'a> Reader<'a> {
     }
 }
 
-fn same<T: Real>(a: &[T], b: &[T]) -> bool {
+/// Bitwise equality (NaN equals NaN): "untouched" means not a bit changed.
+pub fn same<T: Real>(a: &[T], b: &[T]) -> bool {
     a.iter()
         .zip(b.iter())
         .all(|(x, y)| x == y || (x != x && y != y))
@@ -170,14 +172,25 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> Option<Tally> {
 /// One input for the `steps` target: any method, f32 or f64. Returns the method selector and
 /// the outcomes, or `None` when the bytes make no valid body (refused with a `BodyError`).
 pub fn check_steps(data: &[u8]) -> Option<(usize, Tally)> {
+    by_precision(data, METHODS.len(), all::<f64>, all::<f32>)
+}
+
+/// Reads the method selector and the precision from the first two bytes and runs the check
+/// in f64 or f32; returns the method's index (`selector % methods`) and its outcomes.
+pub fn by_precision(
+    data: &[u8],
+    methods: usize,
+    in_f64: fn(&mut Reader, u8) -> Option<Tally>,
+    in_f32: fn(&mut Reader, u8) -> Option<Tally>,
+) -> Option<(usize, Tally)> {
     let mut r = Reader::new(data);
     let method = r.pick();
     let t = if r.pick() % 2 == 0 {
-        all::<f64>(&mut r, method)
+        in_f64(&mut r, method)
     } else {
-        all::<f32>(&mut r, method)
+        in_f32(&mut r, method)
     };
-    t.map(|t| (method as usize % 11, t))
+    t.map(|t| (method as usize % methods, t))
 }
 
 /// One input for the `inertia_tensor` target.

@@ -205,10 +205,29 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         }
     }
 
-    /// Restarts the clock at `t` and drops the cached end torque (it was for the old time).
-    pub(crate) fn set_time(&mut self, t: T) {
+    /// Restarts the clock at `t` and drops the cached end torque (it was for the old time);
+    /// a non-finite `t` is refused and changes nothing.
+    pub(crate) fn set_time(&mut self, t: T) -> Result<(), StepError> {
+        if !t.is_finite() {
+            return Err(StepError::NonFinite);
+        }
         self.clock = Clock { t, carry: T::ZERO };
         self.last = None;
+        Ok(())
+    }
+
+    /// The clock after a step of `h`, refused when it is not finite (`h` not finite, or
+    /// `t + h` overflows): a step must not return a time that is not a number.
+    #[inline]
+    pub(crate) fn clock_after(&self, h: T) -> Result<Clock<T>, StepError> {
+        let next = self.clock.after(h);
+        if next.t.is_finite() {
+            Ok(next)
+        } else if h.is_finite() {
+            Err(StepError::Overflow)
+        } else {
+            Err(StepError::NonFinite)
+        }
     }
 
     pub(crate) fn set_rotor(&mut self, body: &Body<T>, h_r: [T; 3]) -> Result<(), StepError> {
@@ -239,10 +258,17 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         }
     }
 
+    /// `None` without a potential, and for a sum that is not finite (a state or potential
+    /// that overflows, a potential of `+inf` and `-inf` parts): never NaN.
     pub(crate) fn total_energy(&self, body: &Body<T>, s: &State<T>) -> Option<T> {
         let m = Vec3::from_array(s.m).sub(self.rotor);
         let kinetic = c::<T>(0.5) * m.mul_elem(m).dot(body.inverse_inertia());
-        Some(kinetic + self.torque.potential(self.clock.t, &s.q)?)
+        let total = kinetic + self.torque.potential(self.clock.t, &s.q)?;
+        if total.is_finite() {
+            Some(total)
+        } else {
+            None
+        }
     }
 }
 
@@ -264,8 +290,12 @@ macro_rules! forcing_accessors {
         }
 
         /// Sets the time (for time-dependent torques); the cached end torque is dropped.
-        pub fn set_time(&mut self, t: T) {
-            self.forcing.set_time(t);
+        ///
+        /// # Errors
+        ///
+        /// `NonFinite` for a non-finite `t`; the time is then left as it was.
+        pub fn set_time(&mut self, t: T) -> Result<(), StepError> {
+            self.forcing.set_time(t)
         }
 
         /// The torque model.
@@ -433,7 +463,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     }
 
     /// Total energy `1/2 (m - h_r) . I^-1 (m - h_r) + V(t, q)` at the current time, or `None`
-    /// when the torque has no potential.
+    /// when the torque has no potential or the sum is not finite (it overflows).
     #[must_use]
     pub fn total_energy(&self, s: &State<T>) -> Option<T> {
         self.forcing.total_energy(self.drift.body(), s)
@@ -466,6 +496,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         };
         let tau0 = Vec3::from_array(tau_start);
         let h = self.drift.step_size();
+        let clock = self.forcing.clock_after(h)?;
         let given = crate::torque::ConstantTorque(tau_end);
         let (m, q, _) = kdk(
             &mut self.drift,
@@ -480,7 +511,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         )?;
         s.m = m.to_array();
         s.q = q.to_array();
-        self.forcing.clock = self.forcing.clock.after(h);
+        self.forcing.clock = clock;
         self.forcing.last = None;
         Ok(())
     }
@@ -496,7 +527,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let v = checked_momentum(m)?;
         let h = self.drift.step_size();
         let t0 = self.forcing.clock.t;
-        let clock = self.forcing.clock.after(h);
+        let clock = self.forcing.clock_after(h)?;
         let mut lost = self.forcing.lost;
         let next = kdk_momentum(
             &mut self.drift,
@@ -523,7 +554,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let (m0, q) = checked_state(s)?;
         let h = self.drift.step_size();
         let tau0 = self.forcing.torque_at(self.forcing.clock.t, q)?;
-        let clock = self.forcing.clock.after(h);
+        let clock = self.forcing.clock_after(h)?;
         let mut lost = self.forcing.lost;
         let (m, q, tau1) = kdk(
             &mut self.drift,

@@ -327,7 +327,8 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
 
     forcing_accessors!();
 
-    /// Total energy (kinetic of the gyrostat plus the potential), `None` without a potential.
+    /// Total energy (kinetic of the gyrostat plus the potential), `None` without a potential
+    /// or when the sum is not finite (it overflows).
     #[must_use]
     pub fn total_energy(&self, s: &State<T>) -> Option<T> {
         self.forcing.total_energy(self.stages[0].body(), s)
@@ -351,11 +352,16 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let id = [T::ONE, T::ZERO, T::ZERO, T::ZERO];
         let v0 = checked_momentum(m)?;
         let mut clock = self.forcing.clock;
-        let end = clock.after(self.h);
+        let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
         let mut tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &id));
         let (mut v, mut lost) = kick(v0, tau.scale(self.kick_len[0]).add(self.forcing.lost));
-        for (k, (&i, &b)) in self.pattern.iter().zip(self.kick_len.iter().skip(1)).enumerate() {
+        for (k, (&i, &b)) in self
+            .pattern
+            .iter()
+            .zip(self.kick_len.iter().skip(1))
+            .enumerate()
+        {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
             if let Some(p) = turn {
                 v = unrotate(p, v);
@@ -386,12 +392,17 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (m0, q0) = checked_state(s)?;
         let mut clock = self.forcing.clock;
-        let end = clock.after(self.h);
+        let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
         let mut tau = self.forcing.torque_at(clock.t, q0)?;
         let (mut m, mut lost) = kick(m0, tau.scale(self.kick_len[0]).add(self.forcing.lost));
         let mut q = q0;
-        for (k, (&i, &b)) in self.pattern.iter().zip(self.kick_len.iter().skip(1)).enumerate() {
+        for (k, (&i, &b)) in self
+            .pattern
+            .iter()
+            .zip(self.kick_len.iter().skip(1))
+            .enumerate()
+        {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
             if let Some(p) = turn {
                 m = unrotate(p, m);

@@ -55,9 +55,17 @@ impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
         self.t
     }
 
-    /// Sets the time.
-    pub fn set_time(&mut self, t: T) {
+    /// Sets the time (for time-dependent torques).
+    ///
+    /// # Errors
+    ///
+    /// `NonFinite` for a non-finite `t`; the time is then left as it was.
+    pub fn set_time(&mut self, t: T) -> Result<(), StepError> {
+        if !t.is_finite() {
+            return Err(StepError::NonFinite);
+        }
         self.t = t;
+        Ok(())
     }
 
     #[inline]
@@ -98,6 +106,10 @@ impl<T: Real, F: Torque<T>> Integrator<T> for ForcedRk4<T, F> {
         }
         let (v, q) = checked_state(s)?;
         let (h, hh, t) = (self.h, self.h * c::<T>(0.5), self.t);
+        let end = t + h;
+        if !end.is_finite() {
+            return Err(StepError::Overflow);
+        }
         let k1 = self.dm(t, v, q)?;
         let l1 = self.dq(v, q);
         let (v2, q2) = (v.add(k1.scale(hh)), axpy(q, hh, l1));
@@ -122,7 +134,7 @@ impl<T: Real, F: Torque<T>> Integrator<T> for ForcedRk4<T, F> {
             return Err(StepError::Overflow);
         }
         write_state(s, next, q_next)?;
-        self.t = t + h;
+        self.t = end;
         Ok(())
     }
 

@@ -549,3 +549,46 @@ fn worst_free_running_vs_fresh<T: rigid3::Real>(seed: u64, jitter: bool) -> f64 
     }
     worst
 }
+
+/// Regression from the loop fuzz: mass-matrix diagonal spread over 210 decades and
+/// |m| = 7.5e76. The scaled solve kept no correct digit and returned Ok with |m| shrunk
+/// to 4.8e63 and a quaternion of norm 7e106; the step now sees that the result left the
+/// momentum sphere and refuses it, both with and without attitude, touching nothing.
+#[test]
+fn a_body_beyond_the_arithmetic_is_refused_not_stepped() {
+    let body =
+        Body::<f64>::from_mass_matrix([1.5086552185172663e74, 2194.1, 1.2927722311278584e-136])
+            .unwrap();
+    let m0 = [
+        -0.03729744640082714,
+        7.473494788292525e76,
+        2.6177591158186443e72,
+    ];
+    let h = 6.550460000000002e-6;
+    let mut m = m0;
+    assert_eq!(Mv::new(body, h).step(&mut m), Err(StepError::Degenerate));
+    assert_eq!(m, m0);
+    let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+    assert_eq!(
+        Mv::new(body, h).step_state(&mut s),
+        Err(StepError::Degenerate)
+    );
+    assert_eq!(s, State::new(m0, [1.0, 0.0, 0.0, 0.0]));
+}
+
+/// Regression from the loop fuzz: momentum on the axis of a moment 1e146 times the others,
+/// `h |Omega| ~ 1e59`: no rotation solves the step, but the existence test (its discriminant
+/// underflows at this spread) passed it and the attitude came out with norm 1e118. The turn
+/// now sees `4 |b|^2 > 1` and refuses the step with attitude; nothing is changed.
+#[test]
+fn a_turn_past_the_existence_limit_is_refused() {
+    let body = Body::<f64>::from_mass_matrix([143760.0, 7.678952673591547e150, 2695.3]).unwrap();
+    let m0 = [-0.26923, -9.054274932288461e260, -99.54];
+    let q0 = [1.2708, 21.901, -0.004954, 16947.0];
+    let mut s = State::new(m0, q0);
+    assert_eq!(
+        Mv::new(body, -3.930367410510085e-197).step_state(&mut s),
+        Err(StepError::StepTooLarge)
+    );
+    assert_eq!(s, State::new(m0, q0));
+}

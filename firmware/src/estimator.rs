@@ -76,7 +76,7 @@ pub fn tick(
     let g = f.torque_mut();
     g.cos0 = orbit.0;
     g.sin0 = orbit.1;
-    f.set_time(0.0);
+    f.set_time(0.0)?;
     f.step_state(s)
 }
 
