@@ -41,6 +41,23 @@ pub trait Torque<T> {
     fn is_zero(&self) -> bool {
         false
     }
+
+    /// The torque's rate of change as the body turns at the body-frame angular velocity `w`,
+    /// `d/ds tau(t, q (x) exp(s w / 2))` at `s = 0`, where the model has it in closed form.
+    /// The force-gradient kick of [`crate::Composed::force_gradient`] needs it; where this is
+    /// `None` it takes it from one more evaluation at a slightly turned attitude (accurate to
+    /// the scheme's order, but then the step is symplectic only to `O(h^5)`). The default: zero
+    /// for a model that does not depend on the attitude, else `None`.
+    fn turn_rate(&self, _t: T, _q: &[T; 4], _w: [T; 3]) -> Option<[T; 3]>
+    where
+        T: Real,
+    {
+        if self.depends_on_attitude() {
+            None
+        } else {
+            Some([T::ZERO; 3])
+        }
+    }
 }
 
 /// No torque: the free body (with a rotor, a free gyrostat).
@@ -149,6 +166,17 @@ impl<T: Real> Torque<T> for Gravity<T> {
     fn potential(&self, _t: T, q: &[T; 4]) -> Option<T> {
         Some(self.mg * vertical_in_body(q).dot(Vec3::from_array(self.com)))
     }
+    /// `mg (Gamma x w) x chi`: turning the body by `s w` moves `Gamma` by `s Gamma x w`.
+    fn turn_rate(&self, _t: T, q: &[T; 4], w: [T; 3]) -> Option<[T; 3]> {
+        let gamma = vertical_in_body(q);
+        Some(
+            gamma
+                .cross(Vec3::from_array(w))
+                .cross(Vec3::from_array(self.com))
+                .scale(self.mg)
+                .to_array(),
+        )
+    }
 }
 
 /// Gravity gradient in a circular orbit whose nadir direction turns at the orbit rate.
@@ -191,6 +219,17 @@ impl<T: Real> Torque<T> for GravityGradient<T> {
         let ir = r.mul_elem(Vec3::from_array(self.inertia));
         Some(c::<T>(1.5) * self.k * r.dot(ir))
     }
+    /// `3K ((r x w) x I r + r x I (r x w))`: turning the body by `s w` moves `r` by
+    /// `s r x w`.
+    fn turn_rate(&self, t: T, q: &[T; 4], w: [T; 3]) -> Option<[T; 3]> {
+        let inertia = Vec3::from_array(self.inertia);
+        let r = self.nadir(t, q);
+        let dr = r.cross(Vec3::from_array(w));
+        let rate = dr
+            .cross(r.mul_elem(inertia))
+            .add(r.cross(dr.mul_elem(inertia)));
+        Some(rate.scale(c::<T>(3.0) * self.k).to_array())
+    }
 }
 
 /// A closure `Fn(t, &q) -> tau` as a torque model (non-conservative, attitude-dependent).
@@ -218,5 +257,10 @@ impl<T: Real, A: Torque<T>, B: Torque<T>> Torque<T> for (A, B) {
     }
     fn is_zero(&self) -> bool {
         self.0.is_zero() && self.1.is_zero()
+    }
+    fn turn_rate(&self, t: T, q: &[T; 4], w: [T; 3]) -> Option<[T; 3]> {
+        let [a1, a2, a3] = self.0.turn_rate(t, q, w)?;
+        let [b1, b2, b3] = self.1.turn_rate(t, q, w)?;
+        Some([a1 + b1, a2 + b2, a3 + b3])
     }
 }

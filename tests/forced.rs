@@ -7,8 +7,8 @@ mod common;
 
 use common::{dist, Rng, TALK_J, TALK_M0};
 use rigid3::{
-    Body, Composed, ConstantTorque, FnTorque, Forced, ForcedRk4, Gravity, Integrator, Mv, NoTorque,
-    PeriodicTorque, PreMv, State, StepError, Torque,
+    Body, Composed, ConstantTorque, FnTorque, Forced, ForcedRk4, Gravity, GravityGradient,
+    Integrator, Mv, NoTorque, PeriodicTorque, PreMv, State, StepError, Torque,
 };
 
 fn talk() -> Body<f64> {
@@ -684,4 +684,187 @@ fn f32_composed_clock_advances_by_the_step() {
         }
         assert_eq!(f.time(), model.time(), "{name}, step");
     }
+}
+
+/// `q (x) exp(s w / 2)` with the exact exponential (sin and cos).
+fn turned(q: [f64; 4], w: [f64; 3], s: f64) -> [f64; 4] {
+    let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let (sin, cos) = (0.5 * s * n).sin_cos();
+    let p = [cos, sin * w[0] / n, sin * w[1] / n, sin * w[2] / n];
+    let [a0, a1, a2, a3] = q;
+    let [b0, b1, b2, b3] = p;
+    [
+        a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+        a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+        a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+        a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
+    ]
+}
+
+/// `Torque::turn_rate` of every model that has one against a central difference of the
+/// torque itself along the turned attitude (the independent oracle), at random attitudes,
+/// times and turns; the models that do not depend on the attitude have a zero rate, and a
+/// closure none.
+#[test]
+fn turn_rates_are_the_torques_derivatives() {
+    let mut rng = Rng::new(11);
+    let gravity = Gravity {
+        mg: 1.3,
+        com: [0.2, -0.1, 0.5],
+    };
+    let gg = GravityGradient {
+        k: 1.1,
+        n: 0.7,
+        inertia: [1.2, 1.5, 1.9],
+    };
+    let diff = |f: &dyn Torque<f64>, t: f64, q: [f64; 4], w: [f64; 3]| {
+        let s = 1e-5;
+        let (a, b) = (
+            f.torque(t, &turned(q, w, s)),
+            f.torque(t, &turned(q, w, -s)),
+        );
+        [0, 1, 2].map(|i| (a[i] - b[i]) / (2.0 * s))
+    };
+    let mut worst = 0.0f64;
+    for _ in 0..200 {
+        let r = [0, 1, 2, 3].map(|_| rng.range(-1.0, 1.0));
+        let n = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let q = r.map(|x| x / n);
+        let w = [
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+        ];
+        let t = rng.range(-10.0, 10.0);
+        for f in [&gravity as &dyn Torque<f64>, &gg, &(gravity, gg)] {
+            let rate = f.turn_rate(t, &q, w).unwrap();
+            let reference = diff(f, t, q, w);
+            worst = worst.max(dist(rate, reference) / (1.0 + dist(reference, [0.0; 3])));
+        }
+    }
+    println!("turn rates against central differences: {worst:e}");
+    assert!(worst <= 1e-8, "{worst:e}");
+    let q = [1.0, 0.0, 0.0, 0.0];
+    assert_eq!(
+        ConstantTorque([1.0, 2.0, 3.0]).turn_rate(0.0, &q, [1.0; 3]),
+        Some([0.0; 3])
+    );
+    assert_eq!(periodic().turn_rate(1.0, &q, [1.0; 3]), Some([0.0; 3]));
+    let closure = FnTorque(|_t: f64, q: &[f64; 4]| [q[1], 0.0, 0.0]);
+    assert_eq!(closure.turn_rate(0.0, &q, [1.0; 3]), None);
+    // a sum has a rate only when both parts have one
+    assert_eq!((gravity, closure).turn_rate(0.0, &q, [1.0; 3]), None);
+}
+
+/// Chin's force-gradient splitting keeps the heavy top's vertical momentum to round-off
+/// (its modified kick is the torque of a potential of `Gamma` alone, `V - (h^2/48) tau . I^-1
+/// tau`, which has no vertical torque: a wrong sign of the bracket term breaks this) and its
+/// energy without drift.
+#[test]
+fn force_gradient_keeps_the_heavy_tops_vertical_momentum_and_energy() {
+    let (body, g, s0) = heavy_top();
+    let p0 = vertical_momentum(&s0);
+    let mut f = Composed::force_gradient(PreMv::new(body, 0.1, 10).unwrap(), g).unwrap();
+    assert!(f.is_nystrom() && f.order() == 4);
+    let e0 = f.total_energy(&s0).unwrap();
+    let mut s = s0;
+    let (mut dp, mut first, mut second) = (0.0f64, 0.0f64, 0.0f64);
+    let n = 20_000;
+    for k in 0..n {
+        f.step_state(&mut s).unwrap();
+        dp = dp.max((vertical_momentum(&s) - p0).abs() / p0.abs());
+        let de = (f.total_energy(&s).unwrap() - e0).abs() / e0.abs();
+        if k < n / 2 {
+            first = first.max(de);
+        } else {
+            second = second.max(de);
+        }
+    }
+    println!("force gradient, heavy top, h = 0.1, 2e4 steps: e_z.R(q)m {dp:e}, energy {first:e} then {second:e}");
+    assert!(dp <= 1e-12, "vertical momentum drift {dp:e}");
+    assert!(
+        first <= 1e-5 && second <= 2.0 * first.max(1e-14),
+        "energy {first:e} then {second:e}"
+    );
+}
+
+/// Order 4 on the heavy top (attitude-dependent, the model's own turn rate) and with a
+/// periodic body torque (time-dependent: the clock advances with the drifts), and for the
+/// heavy top's torque given as a closure (no turn rate: the derivative from a turned
+/// evaluation), against fine-step RK4.
+#[test]
+fn force_gradient_reaches_order_four() {
+    let (top, g, top0) = heavy_top();
+    let closure = FnTorque(move |t: f64, q: &[f64; 4]| g.torque(t, q));
+    let t = 2.0;
+    let hs = [0.2, 0.1, 0.05];
+    let top_ref = rk4_reference(top, g, [0.0; 3], top0, t);
+    let orders = |e: &[f64]| slope(&hs, e);
+    let top_err: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            let f = Composed::force_gradient(PreMv::new(top, h, 10).unwrap(), g).unwrap();
+            error_at(f, top0, t, &top_ref)
+        })
+        .collect();
+    let closure_err: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            let f = Composed::force_gradient(PreMv::new(top, h, 10).unwrap(), closure).unwrap();
+            error_at(f, top0, t, &top_ref)
+        })
+        .collect();
+    let body = talk();
+    let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    let reference = rk4_reference(body, periodic(), [0.0; 3], s0, t);
+    let periodic_err: Vec<f64> = hs
+        .iter()
+        .map(|&h| {
+            let f = Composed::force_gradient(PreMv::new(body, h, 10).unwrap(), periodic()).unwrap();
+            error_at(f, s0, t, &reference)
+        })
+        .collect();
+    for (name, e) in [
+        ("heavy top", &top_err),
+        ("heavy top as a closure", &closure_err),
+        ("periodic torque", &periodic_err),
+    ] {
+        let p = orders(e);
+        println!("force gradient, {name}: order {p:.3} {e:?}");
+        assert!((p - 4.0).abs() <= 0.15, "{name}: {p} {e:?}");
+    }
+}
+
+#[test]
+fn force_gradient_refuses_a_rotor_and_bad_input_leaving_everything_untouched() {
+    let (body, g, s0) = heavy_top();
+    let mut f = Composed::force_gradient(PreMv::new(body, 0.1, 10).unwrap(), g).unwrap();
+    assert_eq!(
+        f.set_rotor([0.0, 0.1, 0.0]),
+        Err(StepError::RotorUnsupported)
+    );
+    let mut s = s0;
+    f.step_state(&mut s).unwrap();
+    let before = (s, f.time());
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut b = s;
+        b.m[1] = bad;
+        assert_eq!(f.step_state(&mut b), Err(StepError::NonFinite));
+        assert_eq!(b.m[0], s.m[0]);
+        assert_eq!(f.time(), before.1);
+    }
+    // a torque that turns non-finite at the turned attitude only
+    let nasty = FnTorque(|_t: f64, q: &[f64; 4]| {
+        if q[0] == 1.0 {
+            [0.1, 0.0, 0.0]
+        } else {
+            [f64::NAN; 3]
+        }
+    });
+    let mut f = Composed::force_gradient(PreMv::new(body, 0.1, 10).unwrap(), nasty).unwrap();
+    let start = State::new([0.3, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
+    let mut s = start;
+    assert!(f.step_state(&mut s).is_err());
+    assert_eq!((s.m, s.q), (start.m, start.q));
+    assert_eq!(f.time(), 0.0);
 }

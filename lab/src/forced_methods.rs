@@ -113,6 +113,22 @@ impl<T: Real> Torque<T> for SceneTorque<T> {
     fn is_zero(&self) -> bool {
         self.gravity.is_none() && self.gravity_gradient.is_none() && self.periodic.is_none()
     }
+    fn turn_rate(&self, t: T, q: &[T; 4], w: [T; 3]) -> Option<[T; 3]> {
+        // the periodic body torque does not turn with the body
+        let mut rate = [T::ZERO; 3];
+        let mut add = |x: [T; 3]| {
+            for i in 0..3 {
+                rate[i] += x[i];
+            }
+        };
+        if let Some(g) = &self.gravity {
+            add(g.turn_rate(t, q, w)?);
+        }
+        if let Some(g) = &self.gravity_gradient {
+            add(g.turn_rate(t, q, w)?);
+        }
+        Some(rate)
+    }
 }
 
 /// The forced method names the CLI accepts, in table order.
@@ -132,6 +148,9 @@ pub const FORCED_METHODS: &[&str] = &[
     "nystrom6-pre10",
     "nystrom4-exact",
     "nystrom6-exact",
+    "fg4-pre6",
+    "fg4-pre10",
+    "fg4-exact",
     "rk4",
     "midpoint",
     "splitting",
@@ -153,6 +172,9 @@ pub fn describe_forced(name: &str) -> &'static str {
         }
         "nystrom6-pre6" | "nystrom6-pre10" | "nystrom6-exact" => {
             "Blanes-Moan SRKN_11^b Nystrom splitting (kicks, near-exact drifts: PreMv or Exact), order 6, no rotor"
+        }
+        "fg4-pre6" | "fg4-pre10" | "fg4-exact" => {
+            "Chin's force-gradient splitting 4A (two near-exact drifts, a kick with [B,[A,B]]), order 4, no rotor"
         }
         "rk4" => "classical Runge-Kutta on the full forced equations, order 4",
         "midpoint" => "kick-drift-kick around the implicit midpoint rule (Newton), order 2",
@@ -200,6 +222,15 @@ pub fn make_forced<T: Real + 'static>(
         f.set_rotor(rotor).ok()?;
         Some(Box::new(f))
     }
+    fn force_gradient<T: Real + 'static, D: Integrator<T> + Clone + 'static>(
+        drift: D,
+        torque: SceneTorque<T>,
+        rotor: [T; 3],
+    ) -> Option<Box<dyn Integrator<T>>> {
+        let mut f = Composed::force_gradient(drift, torque).ok()?;
+        f.set_rotor(rotor).ok()?;
+        Some(Box::new(f))
+    }
     match name {
         "mv" => forced(Mv::new(body, h), torque, rotor),
         "pre-mv4" => forced(PreMv::new(body, h, 4).ok()?, torque, rotor),
@@ -216,6 +247,9 @@ pub fn make_forced<T: Real + 'static>(
         "nystrom6-pre10" => nystrom(PreMv::new(body, h, 10).ok()?, torque, rotor, 6),
         "nystrom4-exact" => nystrom(Exact::new(body, h), torque, rotor, 4),
         "nystrom6-exact" => nystrom(Exact::new(body, h), torque, rotor, 6),
+        "fg4-pre6" => force_gradient(PreMv::new(body, h, 6).ok()?, torque, rotor),
+        "fg4-pre10" => force_gradient(PreMv::new(body, h, 10).ok()?, torque, rotor),
+        "fg4-exact" => force_gradient(Exact::new(body, h), torque, rotor),
         "rk4" => {
             let mut r = ForcedRk4::new(body, h, torque);
             r.set_rotor(rotor).ok()?;

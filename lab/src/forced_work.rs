@@ -61,7 +61,7 @@ pub fn charted_scenes() -> Vec<ForcedScene> {
 }
 
 /// The forced methods of rigid3 competing for "best".
-pub const RIGID3_FORCED: [&str; 14] = [
+pub const RIGID3_FORCED: [&str; 17] = [
     "mv",
     "pre-mv4",
     "pre-mv6",
@@ -76,6 +76,9 @@ pub const RIGID3_FORCED: [&str; 14] = [
     "nystrom6-pre10",
     "nystrom4-exact",
     "nystrom6-exact",
+    "fg4-pre6",
+    "fg4-pre10",
+    "fg4-exact",
 ];
 
 /// The baselines of the acceptance: RK4 on the full equations and the Strang splitting with
@@ -83,7 +86,7 @@ pub const RIGID3_FORCED: [&str; 14] = [
 pub const FORCED_BASELINES: [&str; 3] = ["rk4", "splitting", "midpoint"];
 
 /// Every forced method of the charts.
-pub const FORCED_CHART: [&str; 12] = [
+pub const FORCED_CHART: [&str; 13] = [
     "mv",
     "pre-mv4",
     "pre-mv10",
@@ -93,6 +96,7 @@ pub const FORCED_CHART: [&str; 12] = [
     "forced6-pre6",
     "nystrom4-pre10",
     "nystrom6-pre10",
+    "fg4-pre6",
     "rk4",
     "splitting",
     "midpoint",

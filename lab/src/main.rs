@@ -477,7 +477,8 @@ fn run_forced<T: Real + 'static>(
 ) -> Result<Report, String> {
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let mut integrator = make_forced(method, body, T::from_f64(h), spec).ok_or_else(|| {
-        if FORCED_METHODS.contains(&method) && method.starts_with("nystrom") {
+        if FORCED_METHODS.contains(&method)
+            && (method.starts_with("nystrom") || method.starts_with("fg4")) {
             format!("'{method}' takes no rotor: a Nystrom splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
         } else if FORCED_METHODS.contains(&method) {
             format!("'{method}' cannot be built for this body and step")

@@ -1,7 +1,8 @@
 //! Measured orders of the forced methods against the mpmath references of the forced scenes
 //! (`lab/refs/forced_refs.json`): `mv` (the kick–drift–kick around `Mv`, order 2), `forced4`
 //! (McLachlan's composition, 4), `forced6` (Kahan–Li's, 6) and Blanes–Moan's Nyström
-//! splittings `nystrom4-pre10` (4) and `nystrom6-pre6` (6; scenes without rotor), built by the
+//! splittings `nystrom4-pre10` (4) and `nystrom6-pre6` (6), and Chin's force-gradient splitting
+//! `fg4-pre10` (4) (these three on the scenes without rotor), built by the
 //! lab's registry `make_forced`, at `T = 10`, with attitude.
 //!
 //! The error is `forced_work::error`: `max(|dm| / |m_ref|, |dq|)` (`q` up to sign). Each order is
@@ -31,12 +32,13 @@ const SCENES: [(&str, bool); 6] = [
 ];
 
 /// Method, nominal order, step counts at `T = 10` (for the slow scenes).
-const METHODS: [(&str, f64, [usize; 3]); 5] = [
+const METHODS: [(&str, f64, [usize; 3]); 6] = [
     ("mv", 2.0, [160, 320, 640]),
     ("forced4", 4.0, [160, 320, 640]),
     ("forced6", 6.0, [80, 160, 320]),
     ("nystrom4-pre10", 4.0, [80, 160, 320]),
     ("nystrom6-pre6", 6.0, [20, 40, 80]),
+    ("fg4-pre10", 4.0, [80, 160, 320]),
 ];
 
 /// The step counts of `method` on scene `name`: the method's, doubled for the fast spinner,
@@ -73,7 +75,8 @@ fn measured_orders_against_the_mpmath_references() {
     for (name, fast) in SCENES {
         let sc = ForcedScene::from_reference(name, T_END).expect("reference scene");
         for (method, nominal, base) in METHODS {
-            if method.starts_with("nystrom") && sc.spec.rotor.is_some() {
+            let splitting = method.starts_with("nystrom") || method.starts_with("fg4");
+            if splitting && sc.spec.rotor.is_some() {
                 // no Nystrom splitting with a rotor: the registry refuses it
                 let body = rigid3::Body::<f64>::from_inertia(sc.inertia).unwrap();
                 assert!(make_forced(method, body, 0.1, &sc.spec).is_none());

@@ -61,6 +61,7 @@ pub fn style(method: &str) -> (RGBColor, Mark, bool) {
         "forced6-pre6" => (RGBColor(0, 0, 139), Mark::Cross, true),
         "nystrom4-pre10" => (RGBColor(200, 0, 90), Mark::Triangle, false),
         "nystrom6-pre10" => (RGBColor(110, 0, 160), Mark::Square, false),
+        "fg4-pre6" => (RGBColor(230, 120, 0), Mark::Triangle, false),
         _ => (RGBColor(100, 100, 100), Mark::None, false),
     }
 }
