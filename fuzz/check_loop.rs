@@ -13,8 +13,8 @@ use rigid3::{
     Midpoint, Mv, PeriodicTorque, PreMv, Real, RetimedMv, Splitting, State, StepError, Torque,
 };
 
-/// Method names by selector (`method % 10`).
-pub const LOOP_METHODS: [&str; 10] = [
+/// Method names by selector (`method % 11`).
+pub const LOOP_METHODS: [&str; 11] = [
     "forced mv",
     "forced pre-mv",
     "forced splitting",
@@ -25,6 +25,7 @@ pub const LOOP_METHODS: [&str; 10] = [
     "mv",
     "pre-mv",
     "retimed-mv",
+    "force gradient",
 ];
 
 /// Every torque model of the crate behind one type, picked by the bytes.
@@ -67,6 +68,14 @@ impl<T: Real> Torque<T> for AnyTorque<T> {
             AnyTorque::Periodic(x) => x.is_zero(),
             AnyTorque::Gravity(x) => x.is_zero(),
             AnyTorque::Gradient(x) => x.is_zero(),
+        }
+    }
+    fn turn_rate(&self, t: T, q: &[T; 4], w: [T; 3]) -> Option<[T; 3]> {
+        match self {
+            AnyTorque::Constant(x) => x.turn_rate(t, q, w),
+            AnyTorque::Periodic(x) => x.turn_rate(t, q, w),
+            AnyTorque::Gravity(x) => x.turn_rate(t, q, w),
+            AnyTorque::Gradient(x) => x.turn_rate(t, q, w),
         }
     }
 }
@@ -342,7 +351,13 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> Option<Tally> {
         ),
         7 => drive(Mv::new(body, h), r, m, q),
         8 => drive(PreMv::new(body, h, order).ok()?, r, m, q),
-        _ => drive(RetimedMv::new(body, h, 2).ok()?, r, m, q),
+        9 => drive(RetimedMv::new(body, h, 2).ok()?, r, m, q),
+        _ => drive(
+            Composed::force_gradient(PreMv::new(body, h, 6).ok()?, tq).ok()?,
+            r,
+            m,
+            q,
+        ),
     })
 }
 

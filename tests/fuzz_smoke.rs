@@ -78,7 +78,7 @@ fn tally_of_loop_outcomes_by_method_and_kind() {
         .map(|s| s.parse().unwrap())
         .unwrap_or(100_000);
     let mut next = || rng.next_u64();
-    let mut table = [[0u32; 7]; 10];
+    let mut table = [[0u32; 7]; 11];
     let (mut inputs, mut refused) = (0u32, 0u32);
     for _ in 0..n {
         let len = (next() % 160) as usize;
