@@ -19,9 +19,9 @@ mod firmware {
     use core::ptr::{read_volatile, write_volatile};
     use cortex_m_rt::entry;
     use rigid3::{
-        Body, Composed, Exact, Forced, ForcedRk4, Gravity, GravityGradient, Integrator, Midpoint,
-        Mv, PeriodicTorque, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver, Splitting, Splitting2,
-        State,
+        Body, Composed, Exact, FnTorque, Forced, ForcedRk4, Gravity, GravityGradient, Integrator,
+        Midpoint, Mv, PeriodicTorque, PreMv, Real, RetimedMv, Rk4, SeedMv, Solver, Splitting,
+        Splitting2, State, Torque,
     };
 
     #[panic_handler]
@@ -215,6 +215,17 @@ mod firmware {
             if let Ok(pre) = PreMv::new(body, h, 10) {
                 if let Ok(mut c) = Composed::nystrom(pre, torque, 4) {
                     let _ = c.set_rotor(rotor);
+                    exercise(c, k + 11);
+                }
+            }
+            // the force-gradient kick: the models' turn rates, and a closure's turned
+            // evaluation
+            if let Ok(pre) = PreMv::new(body, h, 6) {
+                if let Ok(c) = Composed::force_gradient(pre.clone(), torque) {
+                    exercise(c, k + 11);
+                }
+                let closure = FnTorque(move |t: T, q: &[T; 4]| torque.torque(t, q));
+                if let Ok(c) = Composed::force_gradient(pre, closure) {
                     exercise(c, k + 11);
                 }
             }
