@@ -65,20 +65,25 @@ fn without_torque_or_rotor_it_is_the_free_step() {
     assert!((forced.time() - 100.0).abs() <= 1e-13);
 }
 
-#[test]
-fn heavy_top_keeps_vertical_momentum_and_a_bounded_energy() {
-    let (body, g, s0) = heavy_top();
-    let mut f = Forced::new(Mv::new(body, 0.01), g);
-    let mut s = s0;
+/// `n` heavy-top steps (`step`) from `s0`, checked every `every`-th: the largest relative
+/// drift of the vertical spatial momentum `e_z . R(q) m`, and the largest relative error of
+/// the total energy (`energy`) over the first and over the second half of the run.
+fn heavy_top_run<I: Integrator<f64>>(
+    f: &mut I,
+    energy: impl Fn(&I, &State<f64>) -> Option<f64>,
+    s0: State<f64>,
+    n: usize,
+    every: usize,
+) -> (f64, f64, f64) {
     let p0 = vertical_momentum(&s0);
-    let e0 = f.total_energy(&s0).unwrap();
-    let n = 1_000_000;
+    let e0 = energy(f, &s0).unwrap();
+    let mut s = s0;
     let (mut dp, mut first, mut second) = (0.0f64, 0.0f64, 0.0f64);
     for k in 0..n {
         f.step_state(&mut s).unwrap();
-        if k % 10 == 0 {
+        if k % every == 0 {
             dp = dp.max((vertical_momentum(&s) - p0).abs() / p0.abs());
-            let de = (f.total_energy(&s).unwrap() - e0).abs() / e0.abs();
+            let de = (energy(f, &s).unwrap() - e0).abs() / e0.abs();
             if k < n / 2 {
                 first = first.max(de);
             } else {
@@ -86,6 +91,14 @@ fn heavy_top_keeps_vertical_momentum_and_a_bounded_energy() {
             }
         }
     }
+    (dp, first, second)
+}
+
+#[test]
+fn heavy_top_keeps_vertical_momentum_and_a_bounded_energy() {
+    let (body, g, s0) = heavy_top();
+    let mut f = Forced::new(Mv::new(body, 0.01), g);
+    let (dp, first, second) = heavy_top_run(&mut f, |f, s| f.total_energy(s), s0, 1_000_000, 10);
     println!(
         "heavy top, 1e6 steps: e_z.R(q)m {dp:e}, energy first half {first:e}, second {second:e}"
     );
@@ -475,23 +488,9 @@ fn nystrom_splittings_keep_the_heavy_tops_vertical_momentum_and_energy() {
     // space) and PreMv drifts (which keep R(q) m): round-off only. The energy error is the
     // scheme's, O(h^4) / O(h^6), bounded.
     let (body, g, s0) = heavy_top();
-    let p0 = vertical_momentum(&s0);
     for (order, bound) in [(4u8, 1e-6), (6, 1e-8)] {
         let mut f = Composed::nystrom(PreMv::new(body, 0.1, 10).unwrap(), g, order).unwrap();
-        let e0 = f.total_energy(&s0).unwrap();
-        let mut s = s0;
-        let (mut dp, mut first, mut second) = (0.0f64, 0.0f64, 0.0f64);
-        let n = 20_000;
-        for k in 0..n {
-            f.step_state(&mut s).unwrap();
-            dp = dp.max((vertical_momentum(&s) - p0).abs() / p0.abs());
-            let de = (f.total_energy(&s).unwrap() - e0).abs() / e0.abs();
-            if k < n / 2 {
-                first = first.max(de);
-            } else {
-                second = second.max(de);
-            }
-        }
+        let (dp, first, second) = heavy_top_run(&mut f, |f, s| f.total_energy(s), s0, 20_000, 1);
         println!("nystrom {order}, heavy top, h = 0.1, 2e4 steps: e_z.R(q)m {dp:e}, energy {first:e} then {second:e}");
         assert!(dp <= 1e-12, "order {order}: vertical momentum drift {dp:e}");
         assert!(
@@ -763,23 +762,9 @@ fn turn_rates_are_the_torques_derivatives() {
 #[test]
 fn force_gradient_keeps_the_heavy_tops_vertical_momentum_and_energy() {
     let (body, g, s0) = heavy_top();
-    let p0 = vertical_momentum(&s0);
     let mut f = Composed::force_gradient(PreMv::new(body, 0.1, 10).unwrap(), g).unwrap();
     assert!(f.is_nystrom() && f.order() == 4);
-    let e0 = f.total_energy(&s0).unwrap();
-    let mut s = s0;
-    let (mut dp, mut first, mut second) = (0.0f64, 0.0f64, 0.0f64);
-    let n = 20_000;
-    for k in 0..n {
-        f.step_state(&mut s).unwrap();
-        dp = dp.max((vertical_momentum(&s) - p0).abs() / p0.abs());
-        let de = (f.total_energy(&s).unwrap() - e0).abs() / e0.abs();
-        if k < n / 2 {
-            first = first.max(de);
-        } else {
-            second = second.max(de);
-        }
-    }
+    let (dp, first, second) = heavy_top_run(&mut f, |f, s| f.total_energy(s), s0, 20_000, 1);
     println!("force gradient, heavy top, h = 0.1, 2e4 steps: e_z.R(q)m {dp:e}, energy {first:e} then {second:e}");
     assert!(dp <= 1e-12, "vertical momentum drift {dp:e}");
     assert!(
@@ -794,42 +779,32 @@ fn force_gradient_keeps_the_heavy_tops_vertical_momentum_and_energy() {
 /// evaluation), against fine-step RK4.
 #[test]
 fn force_gradient_reaches_order_four() {
-    let (top, g, top0) = heavy_top();
-    let closure = FnTorque(move |t: f64, q: &[f64; 4]| g.torque(t, q));
     let t = 2.0;
     let hs = [0.2, 0.1, 0.05];
-    let top_ref = rk4_reference(top, g, [0.0; 3], top0, t);
-    let orders = |e: &[f64]| slope(&hs, e);
-    let top_err: Vec<f64> = hs
-        .iter()
-        .map(|&h| {
-            let f = Composed::force_gradient(PreMv::new(top, h, 10).unwrap(), g).unwrap();
-            error_at(f, top0, t, &top_ref)
-        })
-        .collect();
-    let closure_err: Vec<f64> = hs
-        .iter()
-        .map(|&h| {
-            let f = Composed::force_gradient(PreMv::new(top, h, 10).unwrap(), closure).unwrap();
-            error_at(f, top0, t, &top_ref)
-        })
-        .collect();
-    let body = talk();
-    let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
-    let reference = rk4_reference(body, periodic(), [0.0; 3], s0, t);
-    let periodic_err: Vec<f64> = hs
-        .iter()
-        .map(|&h| {
-            let f = Composed::force_gradient(PreMv::new(body, h, 10).unwrap(), periodic()).unwrap();
-            error_at(f, s0, t, &reference)
-        })
-        .collect();
+    fn errors<F: Torque<f64> + Copy>(
+        body: Body<f64>,
+        torque: F,
+        s0: State<f64>,
+        t: f64,
+        hs: &[f64],
+    ) -> Vec<f64> {
+        let reference = rk4_reference(body, torque, [0.0; 3], s0, t);
+        hs.iter()
+            .map(|&h| {
+                let f = Composed::force_gradient(PreMv::new(body, h, 10).unwrap(), torque).unwrap();
+                error_at(f, s0, t, &reference)
+            })
+            .collect()
+    }
+    let (top, g, top0) = heavy_top();
+    let closure = FnTorque(move |t: f64, q: &[f64; 4]| g.torque(t, q));
+    let talk0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
     for (name, e) in [
-        ("heavy top", &top_err),
-        ("heavy top as a closure", &closure_err),
-        ("periodic torque", &periodic_err),
+        ("heavy top", errors(top, g, top0, t, &hs)),
+        ("heavy top as a closure", errors(top, closure, top0, t, &hs)),
+        ("periodic torque", errors(talk(), periodic(), talk0, t, &hs)),
     ] {
-        let p = orders(e);
+        let p = slope(&hs, &e);
         println!("force gradient, {name}: order {p:.3} {e:?}");
         assert!((p - 4.0).abs() <= 0.15, "{name}: {p} {e:?}");
     }
