@@ -9,7 +9,7 @@
 
 use crate::check::{by_precision, kind, same, Reader, Tally};
 use rigid3::{
-    Body, Composed, ConstantTorque, Forced, ForcedRk4, Gravity, GravityGradient, Integrator,
+    Body, Composed, ConstantTorque, Exact, Forced, ForcedRk4, Gravity, GravityGradient, Integrator,
     Midpoint, Mv, PeriodicTorque, PreMv, Real, RetimedMv, Splitting, State, StepError, Torque,
 };
 
@@ -294,6 +294,29 @@ fn drive<T: Real, I: Loop<T>>(mut a: I, r: &mut Reader, m: [T; 3], q: [T; 4]) ->
     tally
 }
 
+/// A model seen through a closure: no closed-form turn rate, so the force-gradient kick
+/// evaluates it once more at a turned attitude.
+#[derive(Clone, Copy, Debug)]
+pub struct Opaque<F>(pub F);
+
+impl<T: Real, F: Torque<T>> Torque<T> for Opaque<F> {
+    fn torque(&self, t: T, q: &[T; 4]) -> [T; 3] {
+        self.0.torque(t, q)
+    }
+    fn potential(&self, t: T, q: &[T; 4]) -> Option<T> {
+        self.0.potential(t, q)
+    }
+    fn depends_on_attitude(&self) -> bool {
+        self.0.depends_on_attitude()
+    }
+    fn is_zero(&self) -> bool {
+        self.0.is_zero()
+    }
+    fn turn_rate(&self, _t: T, _q: &[T; 4], _w: [T; 3]) -> Option<[T; 3]> {
+        None
+    }
+}
+
 fn torque<T: Real>(r: &mut Reader, inertia: [T; 3]) -> AnyTorque<T> {
     let c = |x: f64| T::from_f64(x);
     match r.pick() % 4 {
@@ -352,12 +375,33 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> Option<Tally> {
         7 => drive(Mv::new(body, h), r, m, q),
         8 => drive(PreMv::new(body, h, order).ok()?, r, m, q),
         9 => drive(RetimedMv::new(body, h, 2).ok()?, r, m, q),
-        _ => drive(
-            Composed::force_gradient(PreMv::new(body, h, 6).ok()?, tq).ok()?,
-            r,
-            m,
-            q,
-        ),
+        // the models' turn rates or a turned evaluation, around PreMv or the exact flow
+        _ => match r.pick() % 4 {
+            0 => drive(
+                Composed::force_gradient(PreMv::new(body, h, 6).ok()?, tq).ok()?,
+                r,
+                m,
+                q,
+            ),
+            1 => drive(
+                Composed::force_gradient(PreMv::new(body, h, 6).ok()?, Opaque(tq)).ok()?,
+                r,
+                m,
+                q,
+            ),
+            2 => drive(
+                Composed::force_gradient(Exact::new(body, h), tq).ok()?,
+                r,
+                m,
+                q,
+            ),
+            _ => drive(
+                Composed::force_gradient(Exact::new(body, h), Opaque(tq)).ok()?,
+                r,
+                m,
+                q,
+            ),
+        },
     })
 }
 

@@ -205,13 +205,17 @@ impl Scheme {
 }
 
 /// The torque of a force-gradient kick, `tau + eps (tau'[w] - tau x w)` with `w = I^-1 tau`
-/// and `eps = c_k h^2`: the kick's vector field plus `eps` times the bracket `[B, [A, B]]`
-/// (a field of the time and the attitude alone, so still a kick). `tau'[w]` is the torque's
-/// rate of change as the body turns at `w` ([`Torque::turn_rate`]); a model without it in
-/// closed form is evaluated once more at the attitude turned by `eps w`,
-/// `q (x) exp(eps w / 2)` (first order is enough: its error is `O(eps^2) = O(h^4)`, and a kick
-/// multiplies it by `h`), with `exp` from its series (no trigonometry). The cross product is
-/// the Lie bracket's part: on `SO(3)` the derivative of a gradient is not symmetric.
+/// and `eps = c_k h^2`: the kick's torque plus `eps / 2` times the bracket `[B, [A, B]]`,
+/// which is `2 (tau'[w] - tau x w)` (a field of the time and the attitude alone, so still a
+/// kick; docs/MATH.md §9). `tau'[w]` is the torque's rate of change as the body turns at `w`
+/// ([`Torque::turn_rate`], linear in `w`, so it is taken at `eps w`: `tau x w` and `w` itself
+/// can overflow in f32 where `eps w` does not). A model without it in closed form is evaluated
+/// once more at the attitude turned by `eps w`, through the Cayley quaternion
+/// `((1 - |v|^2), 2 v) / (1 + |v|^2)`, `v = eps w / 4`: unit to rounding (a torque model may
+/// assume a unit attitude) and the rotation by `eps w` to first order, which is enough (the
+/// difference quotient's error is `O(eps^2) = O(h^4)`, and a kick multiplies it by `h`).
+/// `Overflow` for a turn too large to represent (a non-finite torque is refused by the drift
+/// it is kicked into, or by the step's final check).
 #[inline]
 fn gradient_torque<T: Real, F: Torque<T>>(
     torque: &F,
@@ -220,23 +224,27 @@ fn gradient_torque<T: Real, F: Torque<T>>(
     tau: Vec3<T>,
     inv_i: Vec3<T>,
     eps: T,
-) -> Vec3<T> {
-    let w = inv_i.mul_elem(tau);
-    let bracket = tau.cross(w).scale(eps);
-    if let Some(rate) = torque.turn_rate(t, &q.to_array(), w.to_array()) {
-        return tau.add(Vec3::from_array(rate).scale(eps)).sub(bracket);
+) -> Result<Vec3<T>, StepError> {
+    let ew = inv_i.mul_elem(tau).scale(eps);
+    let bracket = tau.cross(ew);
+    if let Some(rate) = torque.turn_rate(t, &q.to_array(), ew.to_array()) {
+        return Ok(tau.add(Vec3::from_array(rate)).sub(bracket));
     }
-    // exp(theta / 2) for theta = eps w, with its norm pulled to one to O(theta^4)
-    let half = w.scale(eps * c::<T>(0.5));
-    let k = T::ONE - half.norm2() * c::<T>(0.5);
+    let v = ew.scale(c::<T>(0.25));
+    let v2 = v.norm2();
+    if !v2.is_finite() {
+        return Err(blown(tau));
+    }
+    let inv = T::ONE / (T::ONE + v2);
+    let two = inv + inv;
     let p = Quat {
-        w: k,
-        x: half.x * k,
-        y: half.y * k,
-        z: half.z * k,
+        w: (T::ONE - v2) * inv,
+        x: v.x * two,
+        y: v.y * two,
+        z: v.z * two,
     };
     let turned = Vec3::from_array(torque.torque(t, &q.mul(p).to_array()));
-    turned.sub(bracket)
+    Ok(turned.sub(bracket))
 }
 
 /// Stage `i`'s drift, length and turn (a match, not indexing: no panic path).
@@ -376,16 +384,22 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
     /// 4 with two drifts a step where Blanes and Moan's `SRKN_6^b` takes six. The middle kick
     /// `B~` also carries the bracket `[B, [A, B]]`, which for a torque `tau(t, q)` is again a
     /// kick: its torque is `tau + (h^2 / 24) (tau'[w] - tau x w)`, `w = I^-1 tau`, where
-    /// `tau'[w]` is the torque's derivative as the body turns by `w` (one more torque
-    /// evaluation, at the attitude turned by `h^2 w / 24`; the cross product is the Lie
-    /// bracket's part). The drift must be exact to order 4, as for [`Composed::nystrom`]
-    /// (`PreMv` order 10, or `Exact`); no rotor. Three torque evaluations a step (with attitude,
-    /// the start one is the last step's end one). Because the derivative is taken by a
-    /// difference, the step is symplectic only to `O(h^5)` per step for a potential torque
-    /// (exactly so with `tau'` exact). Measured (`rigid3-lab forced-work`, `PreMv` order 6
-    /// drift, about 1070 counted operations a step on the heavy top): the cheapest rigid3 method
-    /// at `1e-4` to `1e-6` on the README's heavy top (1.4x fewer operations than `SRKN_6^b` at
-    /// `1e-4`), 0.98x–0.96x RK4's operations at `1e-5`, `1e-6` and 1.02x at `1e-4`.
+    /// `tau'[w]` is the torque's rate as the body turns at `w` and the cross product is the Lie
+    /// bracket's part (docs/MATH.md §9). `tau'[w]` comes from [`Torque::turn_rate`]: in closed
+    /// form for `Gravity`, `GravityGradient`, their sums and the torques that do not depend on
+    /// the attitude, and then the modified kick is exactly that of the potential
+    /// `V - (h^2/48) tau . I^-1 tau` and the step is symplectic for a potential torque (two
+    /// torque evaluations and one rate a step; with attitude the start torque is the last
+    /// step's end one). A model without a closed form (a closure) is evaluated once more, at the
+    /// attitude turned by `h^2 w / 24`: the order is kept, symplecticity only to `O(h^5)` a
+    /// step. The drift must be exact to order 4, as for [`Composed::nystrom`] (`PreMv` of order
+    /// at least 4, order 6 measured best here, or `Exact`); no rotor. [`Composed::is_nystrom`]
+    /// is true for it (it shares those requirements).
+    ///
+    /// Measured (`rigid3-lab forced-work`, `PreMv` order 6 drift, about 1060 counted operations
+    /// a step on the heavy top): at `1e-4` on the README's heavy top 1.4x fewer operations than
+    /// `SRKN_6^b` and 2 % more than RK4 (a tie at the sweep's 1.33x step spacing), at `1e-5`
+    /// and `1e-6` 0.98x and 0.96x RK4's, the cheapest rigid3 method from `1e-4` to `1e-6`.
     ///
     /// # Errors
     ///
@@ -400,7 +414,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         self.order
     }
 
-    /// True for a Nyström splitting ([`Composed::nystrom`]).
+    /// True for a Nyström splitting ([`Composed::nystrom`]) and the force-gradient splitting
+    /// ([`Composed::force_gradient`]): the schemes that need the free body's exact flow and
+    /// take no rotor.
     #[must_use]
     pub fn is_nystrom(&self) -> bool {
         self.nystrom
@@ -411,7 +427,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
     /// # Errors
     ///
     /// `NonFinite` or `Overflow` as [`crate::Forced::set_rotor`]; `RotorUnsupported` for a
-    /// non-zero rotor on a Nyström splitting. The rotor is then unchanged.
+    /// non-zero rotor on a Nyström or force-gradient splitting. The rotor is then unchanged.
     pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
         if self.nystrom && h_r.iter().any(|&x| x != T::ZERO) {
             return Err(if h_r.iter().all(|x| x.is_finite()) {
@@ -462,7 +478,21 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
         let mut tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &id));
-        let (mut v, mut lost) = kick(v0, tau.scale(self.kick_len[0]).add(self.forcing.lost));
+        // (no scheme here has a gradient term on its first kick; this keeps one that did)
+        let first = if self.grad_len[0] == T::ZERO {
+            tau
+        } else {
+            let q = Quat::from_array(id);
+            gradient_torque(
+                &self.forcing.torque,
+                clock.t,
+                q,
+                tau,
+                self.inv_i,
+                self.grad_len[0],
+            )?
+        };
+        let (mut v, mut lost) = kick(v0, first.scale(self.kick_len[0]).add(self.forcing.lost));
         for (k, ((&i, &b), &g)) in self
             .pattern
             .iter()
@@ -487,7 +517,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
                 tau
             } else {
                 let q = Quat::from_array(id);
-                gradient_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)
+                gradient_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)?
             };
             (v, lost) = kick(v, pushed.scale(b).add(lost));
         }
@@ -509,7 +539,19 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
         let mut tau = self.forcing.torque_at(clock.t, q0)?;
-        let (mut m, mut lost) = kick(m0, tau.scale(self.kick_len[0]).add(self.forcing.lost));
+        let first = if self.grad_len[0] == T::ZERO {
+            tau
+        } else {
+            gradient_torque(
+                &self.forcing.torque,
+                clock.t,
+                q0,
+                tau,
+                self.inv_i,
+                self.grad_len[0],
+            )?
+        };
+        let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(self.forcing.lost));
         let mut q = q0;
         for (k, ((&i, &b), &g)) in self
             .pattern
@@ -538,7 +580,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             let pushed = if g == T::ZERO {
                 tau
             } else {
-                gradient_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)
+                gradient_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)?
             };
             (m, lost) = kick(m, pushed.scale(b).add(lost));
         }

@@ -828,18 +828,77 @@ fn force_gradient_refuses_a_rotor_and_bad_input_leaving_everything_untouched() {
         assert_eq!(b.m[0], s.m[0]);
         assert_eq!(f.time(), before.1);
     }
-    // a torque that turns non-finite at the turned attitude only
-    let nasty = FnTorque(|_t: f64, q: &[f64; 4]| {
-        if q[0] == 1.0 {
-            [0.1, 0.0, 0.0]
-        } else {
+    // a closure's torque that is NaN exactly at the turned evaluation (the third call of the
+    // first step: start, middle, turned): refused, state and time untouched, and the next
+    // step goes on
+    let calls = core::cell::Cell::new(0u32);
+    let nasty = FnTorque(|t: f64, q: &[f64; 4]| {
+        calls.set(calls.get() + 1);
+        if calls.get() == 3 {
             [f64::NAN; 3]
+        } else {
+            g.torque(t, q)
         }
     });
     let mut f = Composed::force_gradient(PreMv::new(body, 0.1, 10).unwrap(), nasty).unwrap();
-    let start = State::new([0.3, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
-    let mut s = start;
-    assert!(f.step_state(&mut s).is_err());
-    assert_eq!((s.m, s.q), (start.m, start.q));
+    let mut s = s0;
+    assert_eq!(f.step_state(&mut s), Err(StepError::NonFinite));
+    assert_eq!(calls.get(), 3);
+    assert_eq!((s.m, s.q), (s0.m, s0.q));
     assert_eq!(f.time(), 0.0);
+    f.step_state(&mut s).unwrap();
+    assert!(f.time() > 0.0);
+}
+
+/// The turned evaluation of a closure's torque sees a unit attitude even at large turns (a
+/// model may assume one), and in f32 a torque whose `tau x I^-1 tau` alone would overflow is
+/// stepped (the bracket is formed from `h^2 I^-1 tau / 24`), as the Nyström splitting steps it.
+#[test]
+fn force_gradient_turned_attitudes_are_unit_and_f32_large_torques_step() {
+    use rigid3::Exact;
+    let body = Body::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let g = Gravity {
+        mg: 50.0,
+        com: [0.2, -0.1, 0.5],
+    };
+    let worst = core::cell::Cell::new(0.0f64);
+    let watched = FnTorque(|t: f64, q: &[f64; 4]| {
+        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        worst.set(worst.get().max((n - 1.0).abs()));
+        g.torque(t, q)
+    });
+    for h in [0.1, 0.5, 1.0, 2.0, 3.0] {
+        let mut f = Composed::force_gradient(Exact::new(body, h), watched).unwrap();
+        let mut s = State::new([0.3, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
+        for _ in 0..20 {
+            if f.step_state(&mut s).is_err() {
+                break;
+            }
+        }
+    }
+    println!("largest | |q| - 1 | a torque saw: {:e}", worst.get());
+    assert!(worst.get() <= 1e-14, "{:e}", worst.get());
+
+    // the same step in f64, where nothing overflows, is the oracle for the f32 one
+    let tau = [4e36, 4e36, 0.0];
+    let (inertia, m0) = ([4e34, 8e34, 1.2e35], [4e36, 4e36, 4e36]);
+    let id = [1.0, 0.0, 0.0, 0.0];
+    let big = Body::<f32>::from_inertia(inertia.map(|x: f64| x as f32)).unwrap();
+    let mut a = State::new(m0.map(|x: f64| x as f32), id.map(|x: f64| x as f32));
+    // (Mv as the drift: PreMv forms |m|^2 itself, which overflows f32 here)
+    let mut fg = Composed::force_gradient(
+        Mv::new(big, 1e-3),
+        ConstantTorque(tau.map(|x: f64| x as f32)),
+    )
+    .unwrap();
+    fg.step_state(&mut a).unwrap();
+    let mut b = State::new(m0, id);
+    let big64 = Body::<f64>::from_inertia(inertia).unwrap();
+    let mut fg64 = Composed::force_gradient(Mv::new(big64, 1e-3), ConstantTorque(tau)).unwrap();
+    fg64.step_state(&mut b).unwrap();
+    let rel = (0..3)
+        .map(|i| ((f64::from(a.m[i]) - b.m[i]) / b.m[i]).abs())
+        .fold(0.0f64, f64::max);
+    println!("f32, tau x I^-1 tau beyond f32::MAX: against the f64 step {rel:e}");
+    assert!(rel <= 1e-6, "{rel:e}");
 }

@@ -479,7 +479,7 @@ fn run_forced<T: Real + 'static>(
     let mut integrator = make_forced(method, body, T::from_f64(h), spec).ok_or_else(|| {
         if FORCED_METHODS.contains(&method)
             && (method.starts_with("nystrom") || method.starts_with("fg4")) {
-            format!("'{method}' takes no rotor: a Nystrom splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
+            format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
         } else if FORCED_METHODS.contains(&method) {
             format!("'{method}' cannot be built for this body and step")
         } else {
