@@ -119,6 +119,28 @@ pub fn error(scene: &ForcedScene, m: [f64; 3], q: [f64; 4]) -> f64 {
     (dm / norm).max(qdist(q, scene.q_ref))
 }
 
+/// The counted operations at which `points` (a sweep, by increasing step count) reach
+/// `level`, interpolated linearly in `log ops` against `log error` between the two step
+/// counts that bracket it: the sweep's counts are 1.33x apart, so [`cost_at`] (the cheapest
+/// count that reaches the level) sits up to a third above the crossing, by an amount that
+/// differs from method to method. `None` when the sweep never reaches the level; the first
+/// count's cost when already its error is below the level (no extrapolation).
+pub fn cost_interpolated(points: &[Point], level: f64) -> Option<f64> {
+    let first = points.first()?;
+    if first.error <= level {
+        return Some(first.ops as f64);
+    }
+    points.windows(2).find_map(|w| {
+        let (a, b) = (&w[0], &w[1]);
+        if a.error > level && b.error <= level && b.error > 0.0 {
+            let f = (a.error / level).ln() / (a.error / b.error).ln();
+            Some(((a.ops as f64).ln() + f * ((b.ops as f64) / (a.ops as f64)).ln()).exp())
+        } else {
+            None
+        }
+    })
+}
+
 /// Runs `method` on `scene` with `n` steps, counting operations.
 pub fn run(method: &str, scene: &ForcedScene, n: usize) -> Option<Point> {
     let body = Body::<Counted>::from_inertia(scene.inertia.map(Counted)).ok()?;
@@ -177,7 +199,8 @@ pub fn ns_per_step(method: &str, scene: &ForcedScene, rounds: usize) -> Option<f
 pub fn print_table(scene: &ForcedScene) -> bool {
     println!(
         "Forced work-precision, scene '{}', T = {}, with attitude: counted ops to reach each \
-         error level (max of |dm|/|m| and |dq|); sqrt and sin/cos counted as one op each",
+         error level (max of |dm|/|m| and |dq|); sqrt and sin/cos counted as one op each; the \
+         last three columns interpolate each sweep to the level (log ops against log error)",
         scene.name, scene.t_end
     );
     let mine: Vec<(&str, Vec<Point>)> = RIGID3_FORCED
@@ -192,7 +215,10 @@ pub fn print_table(scene: &ForcedScene) -> bool {
     for (b, _) in &base {
         print!(" {b:>11}");
     }
-    println!(" {:>10} {:>10}", "rk4/best", "split/best");
+    println!(
+        " {:>10} {:>10} {:>11} {:>8} {:>9}",
+        "rk4/best", "split/best", "best interp", "rk4 int.", "rk4/best"
+    );
     let mut wins = true;
     for level in FORCED_LEVELS {
         let best = mine
@@ -213,7 +239,16 @@ pub fn print_table(scene: &ForcedScene) -> bool {
             (Some(_), None) => "inf".into(),
             _ => "-".into(),
         };
-        println!(" {:>10} {:>10}", ratio(0), ratio(1));
+        print!(" {:>10} {:>10}", ratio(0), ratio(1));
+        // the same comparison with each side's cost interpolated to the level itself
+        let best_i = mine
+            .iter()
+            .filter_map(|(_, p)| cost_interpolated(p, level))
+            .min_by(f64::total_cmp);
+        match (best_i, cost_interpolated(&base[0].1, level)) {
+            (Some(b), Some(r)) => println!(" {:>11.0} {:>8.0} {:>8.2}x", b, r, r / b),
+            _ => println!(),
+        }
         // a baseline that never reaches the level loses there
         let beats = |k: usize| match (best, costs[k]) {
             (Some((b, _)), Some(c)) => b < c,
@@ -228,6 +263,36 @@ pub fn print_table(scene: &ForcedScene) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// On a sweep that follows a power law exactly (`error = C n^-p`, `ops = k n`) the
+    /// interpolated cost is the closed form `k (C / level)^(1/p)`, whichever counts bracket the
+    /// level; below the first count it is that count's cost, past the last none.
+    #[test]
+    fn interpolated_cost_is_exact_on_a_power_law() {
+        let (c, p, k) = (3.0, 4.0, 452.0);
+        let points: Vec<Point> = step_counts()
+            .into_iter()
+            .map(|n| Point {
+                n,
+                error: c * (n as f64).powf(-p),
+                ops: (k * n as f64) as u64,
+            })
+            .collect();
+        for level in [1e-4, 3e-7, 1e-10] {
+            let exact = k * (c / level).powf(1.0 / p);
+            let got = cost_interpolated(&points, level).unwrap();
+            assert!(
+                (got / exact - 1.0).abs() < 1e-12,
+                "{level}: {got} vs {exact}"
+            );
+            // the grid's cost is the next count up: never below, at most 1.34x above
+            let grid = cost_at(&points, level).unwrap() as f64;
+            assert!(grid >= got && grid <= 1.34 * got, "{grid} vs {got}");
+        }
+        assert_eq!(cost_interpolated(&points, 10.0), Some(points[0].ops as f64));
+        assert_eq!(cost_interpolated(&points, 1e-30), None);
+        assert_eq!(cost_interpolated(&[], 1e-3), None);
+    }
 
     #[test]
     fn charted_scenes_come_from_the_references_and_mv_converges_to_them() {
