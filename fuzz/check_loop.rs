@@ -317,6 +317,23 @@ impl<T: Real, F: Torque<T>> Torque<T> for Opaque<F> {
     }
 }
 
+/// [`drive`] of `Composed::force_gradient` around `drift`, with the model's turn rates or
+/// (`opaque`) without them.
+fn force_gradient<T: Real, D: Integrator<T> + Clone>(
+    drift: D,
+    tq: AnyTorque<T>,
+    opaque: bool,
+    r: &mut Reader,
+    m: [T; 3],
+    q: [T; 4],
+) -> Option<Tally> {
+    Some(if opaque {
+        drive(Composed::force_gradient(drift, Opaque(tq)).ok()?, r, m, q)
+    } else {
+        drive(Composed::force_gradient(drift, tq).ok()?, r, m, q)
+    })
+}
+
 fn torque<T: Real>(r: &mut Reader, inertia: [T; 3]) -> AnyTorque<T> {
     let c = |x: f64| T::from_f64(x);
     match r.pick() % 4 {
@@ -376,32 +393,15 @@ fn all<T: Real>(r: &mut Reader, method: u8) -> Option<Tally> {
         8 => drive(PreMv::new(body, h, order).ok()?, r, m, q),
         9 => drive(RetimedMv::new(body, h, 2).ok()?, r, m, q),
         // the models' turn rates or a turned evaluation, around PreMv or the exact flow
-        _ => match r.pick() % 4 {
-            0 => drive(
-                Composed::force_gradient(PreMv::new(body, h, 6).ok()?, tq).ok()?,
-                r,
-                m,
-                q,
-            ),
-            1 => drive(
-                Composed::force_gradient(PreMv::new(body, h, 6).ok()?, Opaque(tq)).ok()?,
-                r,
-                m,
-                q,
-            ),
-            2 => drive(
-                Composed::force_gradient(Exact::new(body, h), tq).ok()?,
-                r,
-                m,
-                q,
-            ),
-            _ => drive(
-                Composed::force_gradient(Exact::new(body, h), Opaque(tq)).ok()?,
-                r,
-                m,
-                q,
-            ),
-        },
+        _ => {
+            let pick = r.pick() % 4;
+            let opaque = pick % 2 == 1;
+            if pick < 2 {
+                force_gradient(PreMv::new(body, h, 6).ok()?, tq, opaque, r, m, q)?
+            } else {
+                force_gradient(Exact::new(body, h), tq, opaque, r, m, q)?
+            }
+        }
     })
 }
 

@@ -215,9 +215,10 @@ impl Scheme {
 /// assume a unit attitude) and the rotation by `eps w` to first order, which is enough (the
 /// difference quotient's error is `O(eps^2) = O(h^4)`, and a kick multiplies it by `h`).
 /// `Overflow` for a turn too large to represent (a non-finite torque is refused by the drift
-/// it is kicked into, or by the step's final check).
+/// it is kicked into, or by the step's final check). A kick without a gradient term
+/// (`eps = 0`) keeps `tau` as it is.
 #[inline]
-fn gradient_torque<T: Real, F: Torque<T>>(
+fn kick_torque<T: Real, F: Torque<T>>(
     torque: &F,
     t: T,
     q: Quat<T>,
@@ -225,6 +226,9 @@ fn gradient_torque<T: Real, F: Torque<T>>(
     inv_i: Vec3<T>,
     eps: T,
 ) -> Result<Vec3<T>, StepError> {
+    if eps == T::ZERO {
+        return Ok(tau);
+    }
     let ew = inv_i.mul_elem(tau).scale(eps);
     let bracket = tau.cross(ew);
     if let Some(rate) = torque.turn_rate(t, &q.to_array(), ew.to_array()) {
@@ -478,20 +482,10 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
         let mut tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &id));
+        let qid = Quat::from_array(id);
         // (no scheme here has a gradient term on its first kick; this keeps one that did)
-        let first = if self.grad_len[0] == T::ZERO {
-            tau
-        } else {
-            let q = Quat::from_array(id);
-            gradient_torque(
-                &self.forcing.torque,
-                clock.t,
-                q,
-                tau,
-                self.inv_i,
-                self.grad_len[0],
-            )?
-        };
+        let eps = self.grad_len[0];
+        let first = kick_torque(&self.forcing.torque, clock.t, qid, tau, self.inv_i, eps)?;
         let (mut v, mut lost) = kick(v0, first.scale(self.kick_len[0]).add(self.forcing.lost));
         for (k, ((&i, &b), &g)) in self
             .pattern
@@ -513,12 +507,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
             clock = if k == last { end } else { clock.after(a) };
             tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &id));
-            let pushed = if g == T::ZERO {
-                tau
-            } else {
-                let q = Quat::from_array(id);
-                gradient_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)?
-            };
+            let pushed = kick_torque(&self.forcing.torque, clock.t, qid, tau, self.inv_i, g)?;
             (v, lost) = kick(v, pushed.scale(b).add(lost));
         }
         if !v.is_finite() {
@@ -539,18 +528,8 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
         let mut tau = self.forcing.torque_at(clock.t, q0)?;
-        let first = if self.grad_len[0] == T::ZERO {
-            tau
-        } else {
-            gradient_torque(
-                &self.forcing.torque,
-                clock.t,
-                q0,
-                tau,
-                self.inv_i,
-                self.grad_len[0],
-            )?
-        };
+        let eps = self.grad_len[0];
+        let first = kick_torque(&self.forcing.torque, clock.t, q0, tau, self.inv_i, eps)?;
         let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(self.forcing.lost));
         let mut q = q0;
         for (k, ((&i, &b), &g)) in self
@@ -577,11 +556,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
             clock = if k == last { end } else { clock.after(a) };
             tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &q.to_array()));
-            let pushed = if g == T::ZERO {
-                tau
-            } else {
-                gradient_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)?
-            };
+            let pushed = kick_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)?;
             (m, lost) = kick(m, pushed.scale(b).add(lost));
         }
         if !m.is_finite() {

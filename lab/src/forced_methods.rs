@@ -156,6 +156,12 @@ pub const FORCED_METHODS: &[&str] = &[
     "splitting",
 ];
 
+/// Whether `name` is a Nyström or force-gradient splitting: a scheme that takes the drift for
+/// the free body's exact flow, and so no rotor.
+pub fn needs_exact_drift(name: &str) -> bool {
+    name.starts_with("nystrom") || name.starts_with("fg4")
+}
+
 /// One-line description of a forced method.
 pub fn describe_forced(name: &str) -> &'static str {
     match name {

@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use rigid3::{Body, Real, State};
-use rigid3_lab::forced_methods::{make_forced, ForceSpec, FORCED_METHODS};
+use rigid3_lab::forced_methods::{make_forced, needs_exact_drift, ForceSpec, FORCED_METHODS};
 use rigid3_lab::methods::{describe, make, METHODS};
 use rigid3_lab::propagate::{propagate, propagate_forced, Report};
 use std::process::ExitCode;
@@ -477,8 +477,7 @@ fn run_forced<T: Real + 'static>(
 ) -> Result<Report, String> {
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let mut integrator = make_forced(method, body, T::from_f64(h), spec).ok_or_else(|| {
-        if FORCED_METHODS.contains(&method)
-            && (method.starts_with("nystrom") || method.starts_with("fg4")) {
+        if FORCED_METHODS.contains(&method) && needs_exact_drift(method) {
             format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
         } else if FORCED_METHODS.contains(&method) {
             format!("'{method}' cannot be built for this body and step")

@@ -16,7 +16,7 @@
 //! `cargo test -p rigid3-lab --test forced_orders -- --nocapture` prints the table.
 
 use rigid3::State;
-use rigid3_lab::forced_methods::make_forced;
+use rigid3_lab::forced_methods::{make_forced, needs_exact_drift};
 use rigid3_lab::forced_work::{error, ForcedScene};
 
 const T_END: f64 = 10.0;
@@ -75,8 +75,7 @@ fn measured_orders_against_the_mpmath_references() {
     for (name, fast) in SCENES {
         let sc = ForcedScene::from_reference(name, T_END).expect("reference scene");
         for (method, nominal, base) in METHODS {
-            let splitting = method.starts_with("nystrom") || method.starts_with("fg4");
-            if splitting && sc.spec.rotor.is_some() {
+            if needs_exact_drift(method) && sc.spec.rotor.is_some() {
                 // no Nystrom splitting with a rotor: the registry refuses it
                 let body = rigid3::Body::<f64>::from_inertia(sc.inertia).unwrap();
                 assert!(make_forced(method, body, 0.1, &sc.spec).is_none());
