@@ -851,16 +851,14 @@ fn force_gradient_refuses_a_rotor_and_bad_input_leaving_everything_untouched() {
 }
 
 /// The turned evaluation of a closure's torque sees a unit attitude even at large turns (a
-/// model may assume one), and in f32 a torque whose `tau x I^-1 tau` alone would overflow is
-/// stepped (the bracket is formed from `h^2 I^-1 tau / 24`), as the Nyström splitting steps it.
+/// model may assume one; the heavy top made 50 times heavier), and in f32 a torque whose
+/// `tau x I^-1 tau` alone would overflow is stepped (the bracket is formed from
+/// `h^2 I^-1 tau / 24`), as the same step in f64.
 #[test]
 fn force_gradient_turned_attitudes_are_unit_and_f32_large_torques_step() {
     use rigid3::Exact;
-    let body = Body::from_inertia([1.0, 1.5, 2.0]).unwrap();
-    let g = Gravity {
-        mg: 50.0,
-        com: [0.2, -0.1, 0.5],
-    };
+    let (body, top, _) = heavy_top();
+    let g = Gravity { mg: 50.0, ..top };
     let worst = core::cell::Cell::new(0.0f64);
     let watched = FnTorque(|t: f64, q: &[f64; 4]| {
         let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
