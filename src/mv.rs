@@ -256,10 +256,13 @@ struct Anchor<T> {
     /// takes the anchor from its own input has nothing to correct, so a loop that changes `m`
     /// every tick (a torque kick) never pays this division.
     half_inv: T,
-    /// `(h / kappa)^2` when the invariants were taken, and their values then: a change of `h`
-    /// rescales `taken / hn2` (rounded afresh each time from the same numbers, so a jittering
-    /// step does not let the invariants random-walk, as rescaling `alpha` itself would).
-    hn2: T,
+    /// `h / kappa` when the invariants were taken, and their values then: a change of `h`
+    /// rescales `taken (hn / hn0)^2` (rounded afresh each time from the same numbers, so a
+    /// jittering step does not let the invariants random-walk, as rescaling `alpha` itself
+    /// would). The ratio is taken before squaring: `hn^2` leaves f32's range for `h / kappa`
+    /// below `1e-19`, a body of moments `1e20` at `h = 0.1` (the anchor then read zero, and the
+    /// step after a change of `h` was refused as `Degenerate`).
+    hn0: T,
     taken: (T, T),
     /// Free-running steps since the last one that moved its input back onto the invariants
     /// (`0` = the next one does): see [`Mv::advance_frozen`].
@@ -314,7 +317,7 @@ impl<T: Real> Anchor<T> {
             beta: T::ZERO,
             beta_tol: T::ZERO,
             half_inv: T::ZERO,
-            hn2: T::ZERO,
+            hn0: T::ZERO,
             taken: (T::ZERO, T::ZERO),
             unheld: 0,
             spatial: None,
@@ -331,7 +334,7 @@ impl<T: Real> Anchor<T> {
         self.beta = k.beta;
         self.beta_tol = c::<T>(16.0) * T::EPSILON * k.beta;
         self.half_inv = T::ZERO;
-        self.hn2 = sq(hn);
+        self.hn0 = hn;
         self.taken = (k.sum_a, k.beta);
     }
 
@@ -361,8 +364,8 @@ impl<T: Real> Anchor<T> {
     /// The same invariants for the scaled step `hn`, in place (the spatial reference is
     /// kept: it does not depend on `h`).
     fn rescale(&mut self, hn: T) {
-        let r = if self.hn2 > T::ZERO {
-            sq(hn) / self.hn2
+        let r = if self.hn0 != T::ZERO {
+            sq(hn / self.hn0)
         } else {
             T::ZERO
         };

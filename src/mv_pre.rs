@@ -300,21 +300,36 @@ impl<T: Real> Integrator<T> for PreMv<T> {
 /// docs/MATH.md §5 as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree
 /// `k + 1`). They depend on the body only, so they are computed once per body, and a change of
 /// `m` or `h` costs one evaluation and three divisions.
+///
+/// The tables are those of the body scaled to `I / kappa`, `kappa = max I`, and are evaluated
+/// at `C / kappa^2` and `H / kappa` (the momentum scaled to `h m / kappa`), where `s` is the
+/// same and `d` is `kappa` times as large (`s` is a function of `h Omega` alone, `d` has the
+/// units of `1 / I`). Unscaled, `delta^4 = (I1 I2 I3)^4` leaves f32's range for moments
+/// beyond about `2e3` or below `5e-4` (order 10 refused a 1e6 kg m^2 spacecraft and a
+/// 1e-4 kg m^2 CubeSat with `StepTooLarge`), and `|m|^2` for momenta beyond `2e19`.
 #[derive(Clone, Copy, Debug)]
 struct Modifier<T> {
     order: u8,
+    /// `1 / I` (unscaled).
     inv_i: [T; 3],
+    /// `kappa / I` and `1 / kappa`.
+    a: [T; 3],
+    inv_kappa: T,
     s: [[T; 5]; 4],
     d: [[T; 5]; 4],
 }
 
 impl<T: Real> Modifier<T> {
     fn new(body: &Body<T>, order: u8) -> Self {
-        let [i1, i2, i3] = body.inertia();
+        let [b1, b2, b3] = body.inertia();
+        let kappa = b1.max(b2).max(b3);
+        let (i1, i2, i3) = (b1 / kappa, b2 / kappa, b3 / kappa);
         let z = [T::ZERO; 5];
         let mut m = Self {
             order,
-            inv_i: [T::ONE / i1, T::ONE / i2, T::ONE / i3],
+            inv_i: [T::ONE / b1, T::ONE / b2, T::ONE / b3],
+            a: [T::ONE / i1, T::ONE / i2, T::ONE / i3],
+            inv_kappa: T::ONE / kappa,
             s: [z; 4],
             d: [z; 4],
         };
@@ -446,7 +461,6 @@ impl<T: Real> Modifier<T> {
     /// `StepTooLarge`). `NonFinite` for a non-finite `m` or `h`.
     #[inline]
     fn modified_inverse(&self, h: T, m: &[T; 3]) -> Result<[T; 3], StepError> {
-        let [a1, a2, a3] = self.inv_i;
         if !h.is_finite() {
             return Err(StepError::NonFinite);
         }
@@ -456,10 +470,8 @@ impl<T: Real> Modifier<T> {
             }
             return Ok(self.inv_i);
         }
-        let h2 = sq(h);
-        let (m1, m2, m3) = (sq(m[0]), sq(m[1]), sq(m[2]));
-        let cc = h2 * (m1 + m2 + m3) * c::<T>(0.5);
-        let hh = h2 * (m1 * a1 + m2 * a2 + m3 * a3) * c::<T>(0.5);
+        let [a1, a2, a3] = self.a;
+        let (cc, hh) = self.scaled_invariants(h, m);
         if !(cc.is_finite() && hh.is_finite()) {
             return Err(if m.iter().all(|x| x.is_finite()) {
                 StepError::Overflow
@@ -493,7 +505,18 @@ impl<T: Real> Modifier<T> {
         if !(inv[0] > T::ZERO && inv[1] > T::ZERO && inv[2] > T::ZERO) {
             return Err(StepError::StepTooLarge);
         }
-        Ok(inv)
+        let k = self.inv_kappa;
+        Ok([inv[0] * k, inv[1] * k, inv[2] * k])
+    }
+
+    /// `(C, H) / (kappa^2, kappa)`, from the momentum scaled to `h m / kappa`.
+    #[inline(always)]
+    fn scaled_invariants(&self, h: T, m: &[T; 3]) -> (T, T) {
+        let [a1, a2, a3] = self.a;
+        let hk = h * self.inv_kappa;
+        let (u1, u2, u3) = (sq(m[0] * hk), sq(m[1] * hk), sq(m[2] * hk));
+        let half = c::<T>(0.5);
+        ((u1 + u2 + u3) * half, (u1 * a1 + u2 * a2 + u3 * a3) * half)
     }
 }
 
@@ -582,12 +605,13 @@ impl<T: Real> Modifier<T> {
         if self.order <= 2 {
             return Ok(Mat3::from_cols(zero, zero, zero));
         }
-        let [a1, a2, a3] = self.inv_i;
-        let h2 = sq(h);
+        // in the scaled units of the tables ([`Modifier`]): with `C' = C / kappa^2`,
+        // `H' = H / kappa` and `d' = kappa d`, `grad C' = (h / kappa)^2 m`,
+        // `grad H' = (h / kappa)^2 (kappa / I) m` and `1 / I~_i = ((1 + s) a_i + d') / kappa`
+        let [a1, a2, a3] = self.a;
+        let hk2 = sq(h * self.inv_kappa);
         let mv = Vec3::from_array(*m);
-        let (m1, m2, m3) = (sq(m[0]), sq(m[1]), sq(m[2]));
-        let cc = h2 * (m1 + m2 + m3) * c::<T>(0.5);
-        let hh = h2 * (m1 * a1 + m2 * a2 + m3 * a3) * c::<T>(0.5);
+        let (cc, hh) = self.scaled_invariants(h, m);
         let cp = [T::ONE, cc, sq(cc), sq(cc) * cc];
         let hp = [T::ONE, hh, sq(hh), sq(hh) * hh];
         let (mut s_c, mut s_h, mut d_c, mut d_h) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
@@ -608,11 +632,11 @@ impl<T: Real> Modifier<T> {
                 }
             }
         }
-        let grad_c = mv.scale(h2);
-        let grad_h = Vec3::new(a1 * mv.x, a2 * mv.y, a3 * mv.z).scale(h2);
+        let grad_c = mv.scale(hk2);
+        let grad_h = Vec3::new(a1 * mv.x, a2 * mv.y, a3 * mv.z).scale(hk2);
         let gs = grad_c.scale(s_c).add(grad_h.scale(s_h));
         let gd = grad_c.scale(d_c).add(grad_h.scale(d_h));
-        let row = |ii: T, a: T| gs.scale(a).add(gd).scale(-sq(ii));
+        let row = |ii: T, a: T| gs.scale(a).add(gd).scale(-sq(ii) * self.inv_kappa);
         let [i1, i2, i3] = inertia;
         let jac = Mat3::from_cols(row(i1, a1), row(i2, a2), row(i3, a3)).transpose();
         if jac.is_finite() {

@@ -883,7 +883,7 @@ fn force_gradient_turned_attitudes_are_unit_and_f32_large_torques_step() {
     let id = [1.0, 0.0, 0.0, 0.0];
     let big = Body::<f32>::from_inertia(inertia.map(|x: f64| x as f32)).unwrap();
     let mut a = State::new(m0.map(|x: f64| x as f32), id.map(|x: f64| x as f32));
-    // (Mv as the drift: PreMv forms |m|^2 itself, which overflows f32 here)
+    // (Mv as the drift; PreMv takes these units too since its series is scaled)
     let mut fg = Composed::force_gradient(
         Mv::new(big, 1e-3),
         ConstantTorque(tau.map(|x: f64| x as f32)),

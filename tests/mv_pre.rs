@@ -313,6 +313,52 @@ fn retimed_dmv_updates_incrementally_and_stays_exact() {
     }
 }
 
+/// `Mv` and `PreMv` depend on the body's units only through `h Omega`: in f32 every order runs
+/// bodies from `1e-30` to `1e30` (a CubeSat's `1e-4` kg m^2 and a large spacecraft's `1e6`
+/// among them) with the step jittered and the momentum nudged, and lands where the f64 run of
+/// the unit-scale body does, scaled. Regressions: the modified moments' tables held
+/// `(I1 I2 I3)^4`, which left f32's range, so order 10 refused moments of `1e-4` and `1e6`
+/// (order 8 `1e-6` and `1e8`) with `StepTooLarge`, and `|m|^2` overflowed beyond `2e19`; and
+/// `Mv`'s anchor kept `(h / kappa)^2`, which underflowed for moments beyond `1e20` or below
+/// `1e-20`, so the first step after a change of `h` was refused as `Degenerate`.
+#[test]
+fn mv_and_pre_mv_in_f32_are_independent_of_the_units() {
+    let (i, m0) = ([1.0, 1.5, 2.0], [0.3, -0.6, 1.1]);
+    // order 0: Mv itself
+    fn make<T: rigid3::Real + 'static>(body: Body<T>, order: u8) -> Box<dyn Integrator<T>> {
+        let h = T::from_f64(0.1);
+        if order == 0 {
+            Box::new(Mv::new(body, h))
+        } else {
+            Box::new(PreMv::new(body, h, order).unwrap())
+        }
+    }
+    fn drive<T: rigid3::Real>(a: &mut dyn Integrator<T>, s: &mut State<T>) {
+        for k in 0..40 {
+            if k % 2 == 1 {
+                a.set_step_size(T::from_f64(if k % 4 == 1 { 0.105 } else { 0.095 }));
+            } else {
+                s.m[k % 3] *= T::from_f64(1.0 + 1e-4);
+            }
+            a.step_state(s).unwrap();
+        }
+    }
+    for order in [0u8, 2, 4, 6, 8, 10] {
+        let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+        drive(&mut *make(Body::from_inertia(i).unwrap(), order), &mut s);
+        let want = s.m;
+        for scale in [1e-30, 1e-20, 1e-6, 1e-4, 1.0, 1e6, 1e8, 1e20, 1e30] {
+            let body = Body::<f32>::from_inertia(i.map(|x: f64| (x * scale) as f32)).unwrap();
+            let mut s =
+                State::<f32>::new(m0.map(|x: f64| (x * scale) as f32), [1.0, 0.0, 0.0, 0.0]);
+            drive(&mut *make(body, order), &mut s);
+            let got = s.m.map(|x| f64::from(x) / scale);
+            let e = dist(got, want) / norm(want);
+            assert!(e <= 2e-6, "order {order}, scale {scale:e}: {e:e}");
+        }
+    }
+}
+
 /// A non-finite step size set on a running `PreMv` (a clock that failed) is refused as
 /// `NonFinite`, the error a fresh build with that step gives, and the state is left as it was,
 /// at every order (regression: after a change of `h` alone, orders 4–10 reported `Overflow`).
