@@ -9,8 +9,8 @@
 //! ordinary DMV step of size `h'`: the momentum is exact to round-off at DMV's cost per step.
 //! After an outside change of `m` or `h`, `h'` is updated from the leading term of
 //! `h' / h - 1` (the order-4 modified moments' `s3`) plus the rest found at the last exact
-//! retiming, when that is as precise as solving again ([`Anchor`]); otherwise the solve starts
-//! from the last `h' / h`.
+//! retiming, when the update's error bound is below the precision a new solve would have
+//! there ([`Anchor`]); otherwise the solve starts from the last `h' / h`.
 //!
 //! The attitude is not only late but also turned about the spatial momentum by an `O(h^2)`
 //! angle that retiming cannot remove, so a retimed order-2 DMV has `q` still at order 2. On top
@@ -36,14 +36,20 @@ use crate::real::{c, sq, Real};
 /// modified moments' first term (docs/MATH.md §5, `H = h^2 E`, `C = h^2 |m|^2 / 2`), `h'` is
 /// updated from `s3` at the new `m` and `h` and the `O(h^4)` rest found at the last exact
 /// retiming (orders 4 to 10: the rest alone), and the inner DMV takes it as a change of its
-/// step (tracked root kept). That is taken when its error bound, `4 max(|rest|, |s3|^2)` times
-/// the relative change of `H` and `C` since that retiming, is below the exact solve's own
-/// precision (`4 eps (1 + 1 / (h |Omega|))` of `h`); otherwise (large steps or large changes)
-/// the exact solve runs, started from the last ratio `h' / h`. Host, 200 Hz spacecraft,
-/// `rigid3-lab loop-cost`: 2.1–2.3x a free-running step in f64 and 2.6–3.2x in f32 with `h`
-/// jittering by 5%, `m` corrected by 1e-4 or a torque kick every step (the exact solve was
-/// 19–47x). 64 quiet steps after an update retime exactly once, so the phase refinement
-/// below comes back.
+/// step (tracked root kept). That is taken when its error bound, `4 max(|rest|, s^2)` times
+/// the relative change of `H` and `C` since that retiming (`s` the sum of the magnitudes of
+/// `s3`'s two terms), is below the precision of an exact solve at the new point
+/// (`4 eps (1 + |m| / (h |m x Omega|))` of `h`: its exact time is good to a few
+/// `eps |m| / |m x Omega|`), and when the new point is not more than twice as well
+/// conditioned as the anchor (whose own solve error the update carries); otherwise (large
+/// steps, large changes, an anchor taken near a principal axis) the exact solve runs, started
+/// from the last ratio `h' / h`. Moments spanning more than 16x always solve (there an exact
+/// retiming also absorbs the DMV step's own rounding along the orbit, which an update cannot). Host, 200 Hz spacecraft, `rigid3-lab loop-cost`: 2.5–2.7x a free-running step in
+/// f64 and 2.8–3.6x in f32 with `h` jittering by 5%, `m` corrected by 1e-4 or a torque kick
+/// every step (the exact solve was 19–47x). The phase refinement below
+/// goes on through changes of `h` alone; after a change of `m` it stops (the orbit changed),
+/// and 64 steps after the last such change one step retimes exactly (about 1.4 us on the
+/// host: a latency spike to budget for), which brings it back.
 ///
 /// Per step: exactly an [`crate::Mv`] step (78 flops free running, no sqrt, no trigonometry),
 /// and at steps 64, 512, 4096, ... after a set-up one evaluation of the exact time (83 flops a
@@ -52,13 +58,18 @@ use crate::real::{c, sq, Real};
 /// precisely as the exact time of one step can be evaluated (a few `eps / |Omega|`), an error
 /// that repeats every step; after 64, 512, 4096, ... free-running steps `h'` is refined from
 /// the phase gained, and the phase gained is absorbed by the next step (talk's
-/// case, order 2, `h = 0.1`: `m` off by `1.8e-15` at `t = 10` and `7.7e-15` at `t = 100`
+/// case, order 2, `h = 0.1`: `m` off by `1.8e-15` at `t = 10` and `6.6e-15` at `t = 100`
 /// against the mpmath reference; without the refinement `3.8e-13` at `t = 10`). `q` at the
 /// order of the underlying DMV. Under an outside change every step (a spacecraft-like body,
 /// `h = 0.005` with `h` jittering by 5% and `m` nudged by 1e-4, and `h = 0.05` with `m`
 /// nudged; orders 2 and 10) each step lands within `6e-16` (relative) of the exact orbit, as
-/// an exact retiming every step does (`5e-16`; `tests/mv_pre.rs`). On an equilibrium
-/// (momentum on a principal axis, or zero) there is no time to match and `h' = h`.
+/// an exact retiming every step does (`5e-16`; `tests/mv_pre.rs`); with `h` jittering and `m`
+/// left to the steps, `m` stays at round-off over `10^5` steps (the phase refinement). Under
+/// changes of `m` every step the anchor's solve error (a few `eps |m| / (h |m x Omega|)` of
+/// `h'`) repeats until the next exact retiming, so `m` may drift by about `eps` a step from the
+/// orbits it is moved along (an exact retiming every step makes that error random instead).
+/// On an equilibrium (momentum on a principal axis, or zero) there is no time to match and
+/// `h' = h`.
 #[derive(Clone, Debug)]
 pub struct RetimedMv<T> {
     body: Body<T>,
@@ -70,7 +81,7 @@ pub struct RetimedMv<T> {
     /// leaves it close and the secant needs three evaluations of the exact time, not seven).
     ratio: Option<T>,
     /// The refinement of `h'` from the phase the steps have gained ([`PhaseCheck`]); `None`
-    /// before the first retiming, on an equilibrium and after an incremental update.
+    /// before the first retiming, on an equilibrium and after an update for a changed `m`.
     check: Option<PhaseCheck<T>>,
     /// What an outside change of `m` or `h` is carried through without the exact solution
     /// ([`Anchor`]); `None` before the first retiming and on an equilibrium.
@@ -78,27 +89,36 @@ pub struct RetimedMv<T> {
     /// `(sig_1 / (6 delta), -sig_-1 / 3)`: `s3 = a C + b H` (docs/MATH.md §5), and `1 / I`.
     s3_coef: (T, T),
     inv_i: Vec3<T>,
+    /// The largest moment is more than [`UNEVEN`] times the smallest: no updates.
+    uneven: bool,
     /// `set_step_size` was called since the last step.
     h_changed: bool,
-    /// Steps since the last incremental update (an exact retiming follows after
-    /// [`FIRST_CHECK`] of them, so a quiet run gets its [`PhaseCheck`] back).
+    /// Steps since the last update for a changed `m` (after [`FIRST_CHECK`] of them the next
+    /// step retimes exactly, `reanchor`, so the run gets its [`PhaseCheck`] back).
     quiet: u32,
+    reanchor: bool,
 }
 
 /// The exact retiming an incremental update extrapolates from.
 ///
 /// DMV's step on body `I` with size `h (1 + s3)` equals, to `O(h^5)` in time, its step on the
 /// order-4 modified body with size `h` (docs/MATH.md §5: `d3` adds a multiple of the identity
-/// to `I^-1`, which leaves the flow of `m` alone and moves the DMV step by `O(h^2 d3) = O(h^5)`;
+/// to `I^-1`, which leaves the flow of `m` alone and moves the DMV step by `O(h^3 d3) = O(h^5)`;
 /// `(1 + s3)` scales `J`, and DMV depends on `J / h` only), and that one is exact to `O(h^5)`.
 /// So `h' / h - 1 = s3(H, C) + rest`, with `rest = O(h^4)` a smooth function of the scaled
 /// invariants `H = h^2 E` and `C = h^2 |m|^2 / 2` (orders 4 to 10: `h' / h - 1 = rest` itself,
 /// `O(h^4)` or smaller). After a change, `s3` is evaluated afresh (three products) and `rest`
 /// kept: `h'` is then off by the change of `rest`, about `2 |rest| d` for a relative change
-/// `d` of `H` and `C`. Measured `|rest|` is `0.07` to `0.2` times `s3`'s magnitude squared
-/// (talk's body and a spacecraft's, `h` from `0.005` to `0.2`), so the update is taken when
-/// `4 max(|rest|, |s3|^2) d` is below the exact solve's own floor (`4 eps (1 + 1 / (h |Omega|))`
-/// relative: its exact time is good to a few `eps / |Omega|`), and solved exactly otherwise.
+/// `d` of `H` and `C`. Measured `|rest|` is `0.07` to `0.2` times `s^2`, `s = |s3_C| + |s3_H|`
+/// the sum of the magnitudes of `s3`'s two terms (talk's body and a spacecraft's, `h` from
+/// `0.005` to `0.2`; up to `0.37` on other bodies in a review's search), so the bound used is
+/// `4 max(|rest|, s^2) d`.
+///
+/// The anchor's own solve is precise to a few `eps |m| / (h |m x Omega|)` of `h'` (the exact
+/// time's resolution along the orbit), and the update carries that error: near a principal
+/// axis, where `|m x Omega|` is small, it is large (the exact time may not be resolved at
+/// all and `h' = h` returned). So `w^2 = (h |m x Omega| / |m|)^2` is kept, and an update is
+/// refused where `w` is more than twice the anchor's (a new solve would be more precise).
 #[derive(Clone, Copy, Debug)]
 struct Anchor<T> {
     /// `1 / H` and `1 / C` at the exact retiming.
@@ -106,7 +126,29 @@ struct Anchor<T> {
     inv_cc: T,
     /// `h' / h - 1 - s3(H, C)` there (order 2; `h' / h - 1` at orders 4 to 10).
     rest: T,
+    /// `(h |m x Omega| / |m|)^2` there.
+    w2: T,
 }
+
+/// The model's step at a momentum: `h' = h ratio`, the anchor it came from, and the scaled
+/// invariants `H`, `C` and `s` there ([`Anchor`]).
+#[derive(Clone, Copy, Debug)]
+struct Modelled<T> {
+    hp: T,
+    ratio: T,
+    anchor: Anchor<T>,
+    hh: T,
+    cc: T,
+    mag: T,
+}
+
+/// Largest to smallest moment beyond which an outside change always retimes exactly. An exact
+/// retiming measures the exact time of the very step it will take, so it absorbs that step's
+/// rounding error along the orbit into `h'`; an update cannot, and on very uneven bodies that
+/// rounding is far above round-off (a review's search over bodies `(1.5, N, N + 1)`: updates
+/// 20 to 600 times a fresh retiming's one-step error for `N` from 578 to 1e4, never below
+/// 16).
+const UNEVEN: f64 = 16.0;
 
 /// Free-running steps after a retiming at which `h'` is first refined (then after 8x as many,
 /// 64x, ...): see [`PhaseCheck`].
@@ -114,12 +156,14 @@ const FIRST_CHECK: u32 = 64;
 
 /// The retiming solves `tau(h') = h` only as precisely as the exact time of one step can be
 /// evaluated (a few `eps / |Omega|`), and that error repeats every step: on the talk's case
-/// (order 2, `h = 0.1`) `m` was `3.8e-13` off at `t = 10`. After `n` free-running steps the
-/// exact time of the momentum reached, `tau_n`, is known to the same few `eps`, so
-/// `h' n h / tau_n` is `n` times more precise; the next step absorbs the phase already gained
-/// (exact time `h - (tau_n - n h)`), and the steps after it run with the refined `h'`. One
-/// evaluation of the exact time at steps 64, 512, 4096, ...: nothing in a loop that changes
-/// the state every tick (each change retimes afresh).
+/// (order 2, `h = 0.1`) `m` was `3.8e-13` off at `t = 10`. After `n` steps the exact time of
+/// the momentum reached, `tau_n`, is known to the same few `eps`, against the requested time
+/// `t_n` (the sum of the steps' `h`), so the relative speed error `t_n / tau_n - 1` is known `n`
+/// times more precisely; it is removed from `h'` (and from the anchor's rest, so updates for a
+/// new `h` keep it), the next step absorbs the phase already gained (exact time
+/// `h - (tau_n - t_n)`), and the steps after it run with the refined `h'`. One evaluation of
+/// the exact time at steps 64, 512, 4096, ...; it goes on through changes of `h` alone (the
+/// orbit is the same), and stops at a change of `m`.
 #[derive(Clone, Copy, Debug)]
 struct PhaseCheck<T> {
     /// The momentum's exact orbit from where the retiming started.
@@ -127,8 +171,42 @@ struct PhaseCheck<T> {
     /// Steps taken since then, and the count at the next refinement.
     steps: u32,
     next: u32,
-    /// The refined `h'`, set after the step that absorbs the phase.
-    resume: Option<T>,
+    /// The requested time since then: `run` steps of `run_h` since the last change of `h`,
+    /// after `base + comp` (a compensated sum of the earlier runs: summing `h` step by step
+    /// would round `t_n` by up to `n eps`, in f32 far above what the check resolves).
+    base: T,
+    comp: T,
+    run: u32,
+    run_h: T,
+    /// The phase gained, absorbed by the next step (its exact time is `h - absorb`); the step
+    /// after it goes on with `resume`, the refined `h'` for the step size `resume_h` (as is:
+    /// the model's `h (1 + g)` rounds `h'` once more, and at a fixed `h` that ulp repeated
+    /// every step put the talk's case, order 10, at 2.1e-14 at `t = 100` instead of 1.1e-15),
+    /// or, if the step size changed since, the model's `h'`.
+    absorb: T,
+    resume: T,
+    resume_h: T,
+}
+
+impl<T: Real> PhaseCheck<T> {
+    /// The requested time since the retiming.
+    fn elapsed(&self) -> T {
+        self.base + (self.comp + c::<T>(f64::from(self.run)) * self.run_h)
+    }
+
+    /// Closes the run of steps at `run_h` (a change of `h` to `h`): Neumaier's summation.
+    fn new_run(&mut self, h: T) {
+        let x = c::<T>(f64::from(self.run)) * self.run_h;
+        let sum = self.base + x;
+        self.comp += if self.base.abs() >= x.abs() {
+            (self.base - sum) + x
+        } else {
+            (x - sum) + self.base
+        };
+        self.base = sum;
+        self.run = 0;
+        self.run_h = h;
+    }
 }
 
 impl<T: Real> RetimedMv<T> {
@@ -145,7 +223,9 @@ impl<T: Real> RetimedMv<T> {
             (i1 + i2 + i3) / (c::<T>(6.0) * delta),
             -(inv_i.x + inv_i.y + inv_i.z) / c::<T>(3.0),
         );
+        let (lo, hi) = (i1.min(i2).min(i3), i1.max(i2).max(i3));
         Ok(Self {
+            uneven: !(hi <= c::<T>(UNEVEN) * lo),
             body,
             h,
             inner: PreMv::new(body, h, order)?,
@@ -156,6 +236,7 @@ impl<T: Real> RetimedMv<T> {
             inv_i,
             h_changed: false,
             quiet: 0,
+            reanchor: false,
         })
     }
 
@@ -195,73 +276,122 @@ impl<T: Real> RetimedMv<T> {
 
     #[inline(always)]
     fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
-        if self.h_changed || !self.inner.follows(m) {
-            if !self.update(m) {
+        let moved = !self.inner.follows(m);
+        if self.h_changed || moved || self.reanchor {
+            if self.reanchor || !self.update(m, moved) {
                 self.rebuild(m)?;
             }
             self.h_changed = false;
+            self.reanchor = false;
         }
         Ok(())
     }
 
-    /// The incremental update of [`Anchor`] after an outside change of `m` or `h`: the new
-    /// `h'` from `s3` and the anchor's rest, handed to the inner DMV as a change of its step
-    /// (which keeps its tracked root). False, with nothing changed, when there is no anchor or
-    /// the change is too large for the update to be as precise as the exact retiming.
+    /// The model's `h'` for the current `h` at momentum `m` ([`Modelled`]), or `None` without
+    /// an anchor.
     #[inline(always)]
-    fn update(&mut self, m: &[T; 3]) -> bool {
-        let Some(a) = self.anchor else {
+    fn modelled_step(&self, m: &[T; 3]) -> Option<Modelled<T>> {
+        let anchor = self.anchor?;
+        let (hh, cc, s3, mag) = self.scaled_invariants(self.h, m);
+        let ratio = T::ONE + (self.modelled(s3) + anchor.rest);
+        Some(Modelled {
+            hp: self.h * ratio,
+            ratio,
+            anchor,
+            hh,
+            cc,
+            mag,
+        })
+    }
+
+    /// The incremental update of [`Anchor`] after an outside change of `h` or (`moved`) `m`:
+    /// the new `h'` from `s3` and the anchor's rest, handed to the inner DMV as a change of its
+    /// step (which keeps its tracked root). False, with nothing changed, when there is no
+    /// anchor or the update would be less precise than an exact retiming.
+    #[inline(always)]
+    fn update(&mut self, m: &[T; 3], moved: bool) -> bool {
+        if self.uneven {
+            return false;
+        }
+        let Some(Modelled {
+            hp,
+            ratio,
+            anchor: a,
+            hh,
+            cc,
+            mag,
+        }) = self.modelled_step(m)
+        else {
             return false;
         };
         let h = self.h;
-        let (hh, cc, s3, mag) = self.scaled_invariants(h, m);
         let d = (hh * a.inv_hh - T::ONE)
             .abs()
             .max((cc * a.inv_cc - T::ONE).abs());
         let bound = c::<T>(4.0) * a.rest.abs().max(mag * mag) * d;
-        // bound <= tol (1 + 1 / (h |Omega|)), without the square root and the division:
-        // (bound - tol) h |Omega| <= tol, squared (NaN anywhere fails a comparison, and the
-        // exact retiming then reports it)
+        // w^2 = (h |m x Omega|)^2 / |m|^2 no more than 4 anchors' w^2, and
+        // bound <= tol (1 + 1 / w), that is (bound - tol) w <= tol, squared: no square root
+        // and no division (NaN anywhere fails a comparison, and the exact retiming then
+        // reports it)
+        let v = Vec3::from_array(*m);
+        let tw = v.cross(v.mul_elem(self.inv_i));
+        let hw2 = sq(h) * tw.norm2();
+        let m2 = v.norm2();
         let tol = c::<T>(4.0) * T::EPSILON;
-        let within = bound <= tol || {
-            let w = Vec3::from_array(*m).mul_elem(self.inv_i);
-            let over = bound - tol;
-            sq(over) * sq(h) * w.norm2() <= sq(tol)
-        };
-        if !within {
+        let within = hw2 <= c::<T>(4.0) * a.w2 * m2
+            && (bound <= tol || sq(bound - tol) * hw2 <= sq(tol) * m2);
+        if !(within && hp.is_finite() && hp != T::ZERO) {
             return false;
         }
-        let hp = h * (T::ONE + (self.modelled(s3) + a.rest));
-        if !(hp.is_finite() && hp != T::ZERO) {
-            return false;
+        self.ratio = Some(ratio);
+        match self.check.as_mut() {
+            // a change of h on the step that absorbs the phase gained: the new h' absorbs it
+            Some(check) if !moved && check.absorb != T::ZERO => {
+                self.inner.set_step_size(hp * ((h - check.absorb) / h));
+            }
+            _ => self.inner.set_step_size(hp),
         }
-        self.inner.set_step_size(hp);
-        self.check = None;
-        self.quiet = 0;
+        if moved {
+            // a new orbit: the phase check's is no longer this one's
+            self.check = None;
+            self.quiet = 0;
+        }
         true
     }
 
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
-        let (h, orbit) = retime(&self.inner, self.h, m, self.ratio)?;
-        // (a change of step: the inner DMV keeps its trajectory when it still follows m)
-        self.inner.set_step_size(h);
-        self.ratio = Some(h / self.h);
+        let (hp, orbit) = retime(&self.inner, self.h, m, self.ratio)?;
+        // a fresh inner DMV: the retiming measured h' on fresh steps (a kept root re-solves
+        // on a very uneven body differently, by 4e-13 on (1.5, 7026, 7027), and that would
+        // repeat every step)
+        self.inner = self.inner.restarted(hp);
+        self.ratio = Some(hp / self.h);
         self.anchor = orbit.map(|_| {
             let (hh, cc, s3, _) = self.scaled_invariants(self.h, m);
+            let v = Vec3::from_array(*m);
+            let tw = v.cross(v.mul_elem(self.inv_i));
             Anchor {
                 inv_hh: T::ONE / hh,
                 inv_cc: T::ONE / cc,
-                rest: h / self.h - T::ONE - self.modelled(s3),
+                rest: hp / self.h - T::ONE - self.modelled(s3),
+                w2: sq(self.h) * tw.norm2() / v.norm2(),
             }
         });
         self.check = orbit.map(|orbit| PhaseCheck {
             orbit,
             steps: 0,
             next: FIRST_CHECK,
-            resume: None,
+            base: T::ZERO,
+            comp: T::ZERO,
+            run: 0,
+            run_h: self.h,
+            absorb: T::ZERO,
+            resume: T::ZERO,
+            resume_h: T::ZERO,
         });
+        self.quiet = 0;
         Ok(())
     }
 
@@ -273,16 +403,22 @@ impl<T: Real> RetimedMv<T> {
             if self.anchor.is_some() {
                 self.quiet = self.quiet.saturating_add(1);
                 if self.quiet == FIRST_CHECK {
-                    // a quiet run after incremental updates: retime exactly, which brings
-                    // the phase check back (on failure the incremental h' stays)
-                    let _ = self.rebuild(m);
+                    self.reanchor = true;
                 }
             }
             return;
         };
         check.steps = check.steps.saturating_add(1);
-        if let Some(hp) = check.resume.take() {
-            self.inner.set_step_size(hp);
+        check.run = check.run.saturating_add(1);
+        if check.absorb != T::ZERO {
+            check.absorb = T::ZERO;
+            if check.resume_h == self.h {
+                self.inner.set_step_size(check.resume);
+            } else if let Some(Modelled { hp, .. }) = self.modelled_step(m) {
+                if hp.is_finite() && hp != T::ZERO {
+                    self.inner.set_step_size(hp);
+                }
+            }
         } else if check.steps == check.next && check.next != u32::MAX {
             // (the count saturates after 2^32 steps: no check from then on)
             self.refine(m);
@@ -298,7 +434,7 @@ impl<T: Real> RetimedMv<T> {
             return;
         };
         check.next = check.next.saturating_mul(8);
-        let target = c::<T>(f64::from(check.steps)) * self.h;
+        let target = check.elapsed();
         let Ok(tau) = exact_time(&self.body, &check.orbit, m, target) else {
             return;
         };
@@ -310,7 +446,9 @@ impl<T: Real> RetimedMv<T> {
         let small = (gained / self.h).abs() <= c::<T>(1e-6);
         if small && refined.is_finite() && absorb.is_finite() {
             self.inner.set_step_size(absorb);
-            check.resume = Some(refined);
+            check.absorb = gained;
+            check.resume = refined;
+            check.resume_h = self.h;
             self.ratio = Some(refined / self.h);
             if let Some(a) = self.anchor.as_mut() {
                 a.rest += (refined - hp) / self.h;
@@ -462,9 +600,11 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
     /// Changes the step size; the next step updates `h'` incrementally or retimes afresh
     /// ([`RetimedMv`]).
     fn set_step_size(&mut self, h: T) {
+        if let Some(check) = self.check.as_mut() {
+            check.new_run(h);
+        }
         self.h = h;
         self.h_changed = true;
-        self.check = None;
     }
 
     fn body(&self) -> &Body<T> {
@@ -476,6 +616,7 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
         self.check = None;
         self.anchor = None;
         self.h_changed = false;
+        self.reanchor = false;
     }
 }
 
@@ -542,6 +683,36 @@ mod tests {
             a.step_state(&mut s).unwrap();
             assert_ne!(anchored(&a), before, "step {k}");
         }
+    }
+
+    /// On a very uneven body (moments 1.5 : 1000 : 1001) every change retimes exactly
+    /// ([`UNEVEN`]), while the spacecraft (about 1 : 2) updates; a jittering `h` keeps the
+    /// phase check, a changed `m` drops it.
+    #[test]
+    fn uneven_bodies_always_retime_and_jitter_keeps_the_check() {
+        let body = Body::from_inertia([1.5, 1000.0, 1001.0]).unwrap();
+        let mut a = RetimedMv::new(body, 0.01, 2).unwrap();
+        let mut s = State::new([0.3, 0.5, 0.8], [1.0, 0.0, 0.0, 0.0]);
+        a.step_state(&mut s).unwrap();
+        for k in 0..6 {
+            let before = anchored(&a);
+            a.set_step_size(if k % 2 == 0 { 0.0101 } else { 0.0099 });
+            a.step_state(&mut s).unwrap();
+            assert_ne!(anchored(&a), before, "step {k}");
+        }
+        let (mut a, mut s) = spacecraft(0.005);
+        a.step_state(&mut s).unwrap();
+        let first = anchored(&a);
+        for k in 0..6 {
+            a.set_step_size(if k % 2 == 0 { 0.00505 } else { 0.00495 });
+            a.step_state(&mut s).unwrap();
+            assert_eq!(anchored(&a), first, "step {k}");
+            assert!(a.check.is_some(), "step {k}");
+        }
+        s.m[0] *= 1.0 + 1e-6;
+        a.step_state(&mut s).unwrap();
+        assert_eq!(anchored(&a), first);
+        assert!(a.check.is_none());
     }
 
     /// A non-finite momentum after an update is refused, state and integrator as they were.
