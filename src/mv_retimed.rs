@@ -642,6 +642,13 @@ mod tests {
         (a, State::new([3.0, 5.0, 8.0], [1.0, 0.0, 0.0, 0.0]))
     }
 
+    /// Moments 1.5 : 1000 : 1001, beyond [`UNEVEN`].
+    fn uneven(h: f64) -> (RetimedMv<f64>, State<f64>) {
+        let body = Body::from_inertia([1.5, 1000.0, 1001.0]).unwrap();
+        let a = RetimedMv::new(body, h, 2).unwrap();
+        (a, State::new([0.3, 0.5, 0.8], [1.0, 0.0, 0.0, 0.0]))
+    }
+
     fn anchored(a: &RetimedMv<f64>) -> (f64, f64) {
         let x = a.anchor.unwrap();
         (x.inv_hh, x.inv_cc)
@@ -702,9 +709,7 @@ mod tests {
     /// phase check, a changed `m` drops it.
     #[test]
     fn uneven_bodies_always_retime_and_jitter_keeps_the_check() {
-        let body = Body::from_inertia([1.5, 1000.0, 1001.0]).unwrap();
-        let mut a = RetimedMv::new(body, 0.01, 2).unwrap();
-        let mut s = State::new([0.3, 0.5, 0.8], [1.0, 0.0, 0.0, 0.0]);
+        let (mut a, mut s) = uneven(0.01);
         a.step_state(&mut s).unwrap();
         for k in 0..6 {
             let before = anchored(&a);
@@ -733,9 +738,7 @@ mod tests {
     /// 37x the time and 2.7e-12 before).
     #[test]
     fn the_same_step_size_set_every_tick_changes_nothing() {
-        let body = Body::from_inertia([1.5, 1000.0, 1001.0]).unwrap();
-        let mut a = RetimedMv::new(body, 0.01, 2).unwrap();
-        let mut s = State::new([0.3, 0.5, 0.8], [1.0, 0.0, 0.0, 0.0]);
+        let (mut a, mut s) = uneven(0.01);
         a.step_state(&mut s).unwrap();
         let first = anchored(&a);
         for _ in 0..100 {
