@@ -363,7 +363,8 @@ impl<T: Real> Modifier<T> {
         let d3 = d2 * d;
         let d4 = sq(d2);
         // degree 1 (s3, d3): [H, C]
-        m.s[0] = [-sm1 / k(3.0), s1 / (k(6.0) * d), T::ZERO, T::ZERO, T::ZERO];
+        let (s3_c, s3_h) = s3_coefficients([i1, i2, i3]);
+        m.s[0] = [s3_h, s3_c, T::ZERO, T::ZERO, T::ZERO];
         m.d[0] = [
             s1 / (k(6.0) * d),
             -T::ONE / (k(3.0) * d),
@@ -521,6 +522,17 @@ impl<T: Real> Modifier<T> {
         let half = c::<T>(0.5);
         ((u1 + u2 + u3) * half, (u1 * a1 + u2 * a2 + u3 * a3) * half)
     }
+}
+
+/// `s3 = a C + b H`, the first term of the modified moments' series (docs/MATH.md §5):
+/// `(a, b) = (sig_1 / (6 delta), -sig_-1 / 3)` for the moments `i`. Shared with
+/// [`crate::RetimedMv`], whose retimed step is `h (1 + s3 + O(h^4))`.
+pub(crate) fn s3_coefficients<T: Real>([i1, i2, i3]: [T; 3]) -> (T, T) {
+    let sm1 = T::ONE / i1 + T::ONE / i2 + T::ONE / i3;
+    (
+        (i1 + i2 + i3) / (c::<T>(6.0) * (i1 * i2 * i3)),
+        -sm1 / c::<T>(3.0),
+    )
 }
 
 /// The trajectory's `(|m|^2, m . I^-1 m)` for [`PreMv::hold_invariants`].

@@ -22,7 +22,7 @@ use crate::error::StepError;
 use crate::exact::Orbit as Flow;
 use crate::integrator::{checked_momentum, Integrator, State};
 use crate::linalg::Vec3;
-use crate::mv_pre::PreMv;
+use crate::mv_pre::{s3_coefficients, PreMv};
 use crate::real::{c, sq, Real};
 
 /// DMV (plain or preprocessed to `order`) retimed so that the momentum is exact at `t = n h`.
@@ -223,12 +223,6 @@ impl<T: Real> RetimedMv<T> {
     /// [`StepError::InvalidOrder`] for any other order, as [`PreMv::new`].
     pub fn new(body: Body<T>, h: T, order: u8) -> Result<Self, StepError> {
         let [i1, i2, i3] = body.inertia();
-        let delta = i1 * i2 * i3;
-        let inv_i = Vec3::new(T::ONE / i1, T::ONE / i2, T::ONE / i3);
-        let s3_coef = (
-            (i1 + i2 + i3) / (c::<T>(6.0) * delta),
-            -(inv_i.x + inv_i.y + inv_i.z) / c::<T>(3.0),
-        );
         let (lo, hi) = (i1.min(i2).min(i3), i1.max(i2).max(i3));
         Ok(Self {
             uneven: !(hi <= c::<T>(UNEVEN) * lo),
@@ -238,8 +232,8 @@ impl<T: Real> RetimedMv<T> {
             ratio: None,
             check: None,
             anchor: None,
-            s3_coef,
-            inv_i,
+            s3_coef: s3_coefficients(body.inertia()),
+            inv_i: body.inverse_inertia(),
             h_changed: false,
             quiet: 0,
             reanchor: false,
@@ -257,6 +251,14 @@ impl<T: Real> RetimedMv<T> {
         let cc = h2 * c::<T>(0.5) * (v2.x + v2.y + v2.z);
         let (a, b) = (self.s3_coef.0 * cc, self.s3_coef.1 * hh);
         (hh, cc, a + b, a.abs() + b.abs())
+    }
+
+    /// `(h |m x Omega|)^2` and `|m|^2`: the conditioning of the exact time at `m` ([`Anchor`]).
+    #[inline(always)]
+    fn conditioning(&self, h: T, m: &[T; 3]) -> (T, T) {
+        let v = Vec3::from_array(*m);
+        let turn = v.cross(v.mul_elem(self.inv_i));
+        (sq(h) * turn.norm2(), v.norm2())
     }
 
     /// The part of `h' / h - 1` the anchor carries: `s3` at order 2, nothing above.
@@ -339,10 +341,7 @@ impl<T: Real> RetimedMv<T> {
         // bound <= tol (1 + 1 / w), that is (bound - tol) w <= tol, squared: no square root
         // and no division (NaN anywhere fails a comparison, and the exact retiming then
         // reports it)
-        let v = Vec3::from_array(*m);
-        let tw = v.cross(v.mul_elem(self.inv_i));
-        let hw2 = sq(h) * tw.norm2();
-        let m2 = v.norm2();
+        let (hw2, m2) = self.conditioning(h, m);
         let tol = c::<T>(4.0) * T::EPSILON;
         let within = hw2 <= c::<T>(4.0) * a.w2 * m2
             && (bound <= tol || sq(bound - tol) * hw2 <= sq(tol) * m2);
@@ -376,13 +375,12 @@ impl<T: Real> RetimedMv<T> {
         self.ratio = Some(hp / self.h);
         self.anchor = orbit.map(|_| {
             let (hh, cc, s3, _) = self.scaled_invariants(self.h, m);
-            let v = Vec3::from_array(*m);
-            let tw = v.cross(v.mul_elem(self.inv_i));
+            let (hw2, m2) = self.conditioning(self.h, m);
             Anchor {
                 inv_hh: T::ONE / hh,
                 inv_cc: T::ONE / cc,
                 rest: hp / self.h - T::ONE - self.modelled(s3),
-                w2: sq(self.h) * tw.norm2() / v.norm2(),
+                w2: hw2 / m2,
             }
         });
         self.check = orbit.map(|orbit| PhaseCheck {
