@@ -825,11 +825,19 @@ impl<T: Real> Mv<T> {
         // correlated along the orbit, so |m|^2 and the energy would drift (|m|^2 by 7.6e-12 in
         // f64, 2e-3 in f32 after 10^6 steps on the talk's case; the energy by 3e-5 in f32 on
         // the spacecraft). Each step moves its input back onto the trajectory's invariants
-        // ([`Anchor::correction`]); the anchor is re-taken when the caller changed m (a
-        // filter's correction is kept, not undone), the scale moved or the body changed. (Kept inline: as a
-        // function taking `&mut Option<Anchor>` it cost an instruction per step on the M4F.)
+        // ([`Anchor::correction`]; at small h |Omega| every HOLD_PERIOD-th step); the anchor
+        // is re-taken when the caller changed m (a filter's correction is kept, not undone),
+        // the scale moved or the body changed. (Kept inline: as a function taking
+        // `&mut Option<Anchor>` it cost an instruction per step on the M4F.)
         let correction = match self.anchor.as_mut() {
+            // at small h |Omega| a step whose input goes on the trajectory (a jittering clock)
+            // holds the invariants every HOLD_PERIOD-th step, like a free-running one
+            Some(a) if follows && !resynced && !self.retake && t.may_freeze && a.unheld != 0 => {
+                a.unheld = a.unheld.wrapping_add(1) & (HOLD_PERIOD - 1);
+                None
+            }
             Some(a) if follows && !resynced && !self.retake => {
+                a.unheld = 1;
                 Some(a.correction(k.invariants(), t))
             }
             _ => {

@@ -205,10 +205,11 @@ fn time<T: Real, I: Integrator<T>>(
 fn measure_precision<T: Real>(
     precision: &'static str,
     steps: usize,
+    m0: [f64; 3],
     rows: &mut Vec<Row>,
     overhead: &mut Vec<Overhead>,
 ) -> Result<(), String> {
-    let (inertia, m0, q0) = spacecraft();
+    let (inertia, _, q0) = spacecraft();
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let h = T::from_f64(SPACECRAFT_H);
     let s0 = State::new(m0.map(T::from_f64), q0.map(T::from_f64));
@@ -265,14 +266,19 @@ fn measure_precision<T: Real>(
     Ok(())
 }
 
-/// Runs every method, precision and regime with `steps` steps per timed batch.
-pub fn measure(steps: usize) -> Result<LoopCost, String> {
+/// Runs every method, precision and regime with `steps` steps per timed batch, from the
+/// spacecraft's initial momentum or `m0`.
+pub fn measure(steps: usize, m0: Option<[f64; 3]>) -> Result<LoopCost, String> {
     let steps = steps.max(1);
-    let (inertia, m0, q0) = spacecraft();
+    let (inertia, default_m0, q0) = spacecraft();
+    let m0 = m0.unwrap_or(default_m0);
+    if !m0.iter().all(|x| x.is_finite()) {
+        return Err("--m0 must be finite".into());
+    }
     let mut rows = Vec::new();
     let mut overhead = Vec::new();
-    measure_precision::<f64>("f64", steps, &mut rows, &mut overhead)?;
-    measure_precision::<f32>("f32", steps, &mut rows, &mut overhead)?;
+    measure_precision::<f64>("f64", steps, m0, &mut rows, &mut overhead)?;
+    measure_precision::<f32>("f32", steps, m0, &mut rows, &mut overhead)?;
     Ok(LoopCost {
         steps,
         h: SPACECRAFT_H,
