@@ -35,12 +35,11 @@ use crate::real::{c, sq, Real};
 /// `h' = h (1 + s3 + O(h^4))` with `s3 = sig_1 C / (6 delta) - sig_-1 H / 3` the order-4
 /// modified moments' first term (docs/MATH.md §5, `H = h^2 E`, `C = h^2 |m|^2 / 2`), `h'` is
 /// updated from `s3` at the new `m` and `h` and the `O(h^4)` rest found at the last exact
-/// retiming, rescaled by the growth of `H` and `C` since (`rho^2`; orders 4 to 10: the rest
-/// alone, `rho^2` to `rho^5`), and the inner DMV takes it as a change of its step (tracked
-/// root kept). That is taken when its error bound, `4 max(|rest|, s^2)` times
-/// `|rho_H - rho_C| + 8 s d` (`s` the sum of the magnitudes of `s3`'s two terms, `d` the
-/// relative change of `H` and `C` since that retiming: the rescaling is exact at leading order
-/// for a change of `h` alone), is below the precision of an exact solve at the new point
+/// retiming, rescaled by the growth of `H` and `C` since where that rest is above the
+/// retiming's resolution (`rho^2`; orders 4 to 10: the rest alone, `rho^2` to `rho^5`), and the
+/// inner DMV takes it as a change of its step (tracked root kept). That is taken when its error
+/// bound (the rest's change, and the rescaled round-off the anchor carries) is
+/// below the precision of an exact solve at the new point
 /// (`4 eps (1 + |m| / (h |m x Omega|))` of `h`: its exact time is good to a few
 /// `eps |m| / |m x Omega|`), and when the new point is not more than twice as well
 /// conditioned as the anchor (whose own solve error the update carries); otherwise (large
@@ -109,22 +108,29 @@ pub struct RetimedMv<T> {
 /// `(1 + s3)` scales `J`, and DMV depends on `J / h` only), and that one is exact to `O(h^5)`.
 /// So `h' / h - 1 = s3(H, C) + rest`, with `rest = O(h^4)` a smooth function of the scaled
 /// invariants `H = h^2 E` and `C = h^2 |m|^2 / 2` (orders 4 to 10: `h' / h - 1 = rest` itself,
-/// `O(h^order)`). After a change, `s3` is evaluated afresh (three products) and `rest`
-/// rescaled: its leading term is homogeneous in `(H, C)`, of degree `k = 2` at orders 2 and 4
-/// and `order / 2` above (measured: 2.00, 2.00, 2.96 for orders 2, 4, 6 on the spacecraft), so
-/// when `H` and `C` grow by `rho_H`, `rho_C` it becomes `rest rho^k`, `rho = (rho_H + rho_C) / 2`.
-/// That is exact at leading order for a change of `h` alone (`rho_H = rho_C`); a change of `m`
-/// leaves an error of the leading term times `|rho_H - rho_C|`, and the next order (about `s`
-/// times the rest) one of about `s d |rest|`, `d` the relative change of `H` and `C`. Measured
-/// `|rest|` is `0.02` to `0.2` times `s^2`, `s = |s3_C| + |s3_H|` the sum of the magnitudes of
-/// `s3`'s two terms (talk's body and a spacecraft's, `h` from `0.005` to `0.2`; up to `0.37` on
-/// other bodies in a review's search), so the bound used is
-/// `4 max(|rest|, s^2) (|rho_H - rho_C| + 8 s d)`. (Not rescaling, the bound was
-/// `4 max(|rest|, s^2) d`, and at 200 Hz on a spacecraft turning at 0.43 rad/s every change of a
-/// jittering clock retimed exactly: 20x the time of an update.) Where the anchor's rest is
-/// below its own solve's resolution, rescaling moves that round-off by `k d` of itself, within
-/// the tolerance; the phase refinement's corrections are kept apart (`phase`) and not
-/// rescaled.
+/// `O(h^order)`). After a change, `s3` is evaluated afresh (three products). The rest's leading
+/// term is homogeneous in `(H, C)`, of degree `k = 2` at orders 2 and 4 and `order / 2` above
+/// (measured: 2.00, 2.00, 3.00, 4.00, 5.0 for orders 2 to 10), so when `H` and `C` grow by
+/// `rho_H`, `rho_C` it becomes `rest rho^k`, `rho = (rho_H + rho_C) / 2`: exact at leading order
+/// for a change of `h` alone (`rho_H = rho_C`); a change of `m` leaves an error of the leading
+/// term times `|rho_H - rho_C|`, and the next order (about `s` times the rest) one of about
+/// `s d |rest|`, `d` the relative change of `H` and `C`. But the measured rest also carries the
+/// anchor's own round-off, up to about the retiming's resolution `res = 8 eps (1 + 1/w)`
+/// (below), which rescaling multiplies too. So:
+///
+/// - a rest above `res` (resolved) is rescaled, with the bound
+///   `4 max(|rest|, s^2) (|rho_H - rho_C| + 8 s d) + |rho^k - 1| res`. Measured `|rest|` is
+///   `0.02` to `0.2` times `s^2`, `s = |s3_C| + |s3_H|` the sum of the magnitudes of `s3`'s two
+///   terms (talk's body and a spacecraft's, `h` from `0.005` to `0.2`; up to `0.37` on other
+///   bodies in a review's search). Without the last term a review found a clock ramped by
+///   1.3-2x carried the round-off to 20 tolerances (`m` 2.9e-12 off after 4000 steps);
+/// - a rest at or below `res` is kept as it is: the true rest is at most `min(s^2, |rest| + res)`
+///   and grows by at most `(1 + d)^k - 1` of itself, which is the bound. Rescaling it multiplied
+///   pure round-off (in f32 at 200 Hz always the case), and the bound used before,
+///   `4 max(|rest|, s^2) d`, refused every change of a jittering 200 Hz clock on a spacecraft
+///   turning at 0.43 rad/s (20x the time of an update).
+///
+/// The phase refinement's corrections are kept apart (`phase`) and not rescaled.
 ///
 /// The anchor's own solve is precise to a few `eps |m| / (h |m x Omega|)` of `h'` (the exact
 /// time's resolution along the orbit), and the update carries that error: near a principal
@@ -143,6 +149,9 @@ struct Anchor<T> {
     phase: T,
     /// `(h |m x Omega| / |m|)^2` there.
     w2: T,
+    /// `res = 8 eps (1 + |m| / (h |m x Omega|))` there: the resolution of its exact retiming
+    /// (the rest carries an error up to about this).
+    res: T,
 }
 
 /// The model's step at a momentum: `h' = h ratio`, the anchor it came from, and the scaled
@@ -156,6 +165,8 @@ struct Modelled<T> {
     rh: T,
     rc: T,
     mag: T,
+    /// The factor the rest was rescaled by.
+    grow: T,
 }
 
 /// Largest to smallest moment beyond which an outside change always retimes exactly. An exact
@@ -318,8 +329,14 @@ impl<T: Real> RetimedMv<T> {
         let anchor = self.anchor?;
         let (hh, cc, s3, mag) = self.scaled_invariants(self.h, m);
         let (rh, rc) = (hh * anchor.inv_hh, cc * anchor.inv_cc);
-        let rest = anchor.rest * self.rest_scale((rh + rc) * c::<T>(0.5));
-        let ratio = T::ONE + (self.modelled(s3) + (rest + anchor.phase));
+        // only a rest measured above the retiming's resolution is rescaled: below it the
+        // measured rest is mostly the anchor's round-off, which does not scale
+        let grow = if anchor.rest.abs() > anchor.res {
+            self.rest_scale((rh + rc) * c::<T>(0.5))
+        } else {
+            T::ONE
+        };
+        let ratio = T::ONE + (self.modelled(s3) + (anchor.rest * grow + anchor.phase));
         Some(Modelled {
             hp: self.h * ratio,
             ratio,
@@ -327,6 +344,7 @@ impl<T: Real> RetimedMv<T> {
             rh,
             rc,
             mag,
+            grow,
         })
     }
 
@@ -360,17 +378,26 @@ impl<T: Real> RetimedMv<T> {
             rh,
             rc,
             mag,
+            grow,
         }) = self.modelled_step(m)
         else {
             return false;
         };
         let h = self.h;
         let d = (rh - T::ONE).abs().max((rc - T::ONE).abs());
-        // the rest is rescaled by the mean growth of H and C: exact at leading order for a
-        // change of h alone (both grow alike), off by the leading term times |rh - rc| for a
-        // change of m; the next order (about s times the rest) is not rescaled right
-        let bound =
-            c::<T>(4.0) * a.rest.abs().max(mag * mag) * ((rh - rc).abs() + c::<T>(8.0) * mag * d);
+        let bound = if a.rest.abs() > a.res {
+            // a resolved rest is rescaled by the mean growth of H and C: exact at leading
+            // order for a change of h alone (both grow alike), off by the leading term times
+            // |rh - rc| for a change of m; the next order (about s times the rest) is not
+            // rescaled right; and the round-off the anchor's rest carries is rescaled with it
+            // (a review found a clock ramped by 1.3-2x carried it to 20 tolerances)
+            c::<T>(4.0) * a.rest.abs().max(mag * mag) * ((rh - rc).abs() + c::<T>(8.0) * mag * d)
+                + (grow - T::ONE).abs() * a.res
+        } else {
+            // an unresolved one is kept: the true rest, at most the measured one plus the
+            // resolution and (measured: 0.02-0.37 of) s^2, grows by at most (1 + d)^k - 1
+            (self.rest_scale(T::ONE + d) - T::ONE) * (mag * mag).min(a.rest.abs() + a.res)
+        };
         // w^2 = (h |m x Omega|)^2 / |m|^2 no more than 4 anchors' w^2, and
         // bound <= tol (1 + 1 / w), that is (bound - tol) w <= tol, squared: no square root
         // and no division (NaN anywhere fails a comparison, and the exact retiming then
@@ -416,6 +443,7 @@ impl<T: Real> RetimedMv<T> {
                 rest: hp / self.h - T::ONE - self.modelled(s3),
                 phase: T::ZERO,
                 w2: hw2 / m2,
+                res: c::<T>(8.0) * T::EPSILON * (T::ONE + (m2 / hw2).sqrt().min(T::MAX)),
             }
         });
         self.check = orbit.map(|orbit| PhaseCheck {
@@ -770,6 +798,28 @@ mod tests {
             let err = (a.inner.step_size() - exact).abs() / h;
             assert!(err <= 8.0 * f64::EPSILON / hw, "step {k}: {err:e}");
         }
+    }
+
+    /// A large change of `h` (x1.76) from an anchor whose rest is resolved: rescaling
+    /// multiplies the anchor's round-off by `1.76^4`, and the bound counts that (the review's
+    /// case: the update was 19.6 tolerances off, an exact retiming 0.04); the step taken is
+    /// within 2 tolerances of the exact retiming.
+    #[test]
+    fn a_large_change_counts_the_rescaled_round_off() {
+        let body = Body::from_inertia([1.0, 1.129124343321708, 1.4944477320025873]).unwrap();
+        let m0 = [0.6643527344456901, -0.24669616999656668, 0.7055327376837729];
+        let h0 = 3.6314338732667687e-3;
+        let mut a = RetimedMv::new(body, h0, 4).unwrap();
+        let mut m = m0;
+        a.step(&mut m).unwrap();
+        let h = 1.7562723632166553 * h0;
+        a.set_step_size(h);
+        let exact = a.retimed_step(&m).unwrap();
+        let (hw2, m2) = a.conditioning(h, &m);
+        let tol = 4.0 * f64::EPSILON * (1.0 + (m2 / hw2).sqrt());
+        a.step(&mut m).unwrap();
+        let err = (a.inner.step_size() - exact).abs() / h;
+        assert!(err <= 2.0 * tol, "{} tolerances", err / tol);
     }
 
     /// Where `h |Omega|` is not small (talk's case, `h = 0.1`: `s3` about 2e-3) the rest of the
