@@ -341,6 +341,35 @@ fn retimed_dmv_retimes_when_nutation_grows_from_an_axis() {
     }
 }
 
+/// A seeded xorshift clock jitter: uniform numbers in `[0, 1)`.
+struct Xorshift(u64);
+
+impl Xorshift {
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The requested time, summed with Kahan's compensation: the plain sum's rounding would be an
+/// error in time of its own.
+#[derive(Default)]
+struct Elapsed {
+    t: f64,
+    comp: f64,
+}
+
+impl Elapsed {
+    fn add(&mut self, h: f64) {
+        let y = h - self.comp;
+        let sum = self.t + y;
+        self.comp = (sum - self.t) - y;
+        self.t = sum;
+    }
+}
+
 /// Found in review: with `h` jittering every step and nothing else changing, updates used to
 /// stop the phase refinement, so the retiming's solve error (a few `eps / (h |Omega|)` of `h'`)
 /// repeated for good: `m` was 1.2e-11 off the exact solution after `10^5` steps at 200 Hz
@@ -360,8 +389,8 @@ fn retimed_dmv_keeps_its_phase_under_a_jittering_step() {
     ] {
         let mut a = RetimedMv::new(b, 0.005, 2).unwrap();
         let mut m = m0;
-        let (mut t, mut comp) = (0.0f64, 0.0f64);
-        let mut x = 77u64;
+        let mut t = Elapsed::default();
+        let mut x = Xorshift(77);
         for k in 0..100_000 {
             if blip && k == 10 {
                 for bad in [f64::INFINITY, f64::NAN] {
@@ -371,20 +400,12 @@ fn retimed_dmv_keeps_its_phase_under_a_jittering_step() {
                     assert_eq!(m, before);
                 }
             }
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            let u = (x >> 11) as f64 / (1u64 << 53) as f64;
-            let h = 0.005 * (1.0 + 0.05 * (2.0 * u - 1.0));
+            let h = 0.005 * (1.0 + 0.05 * (2.0 * x.unit() - 1.0));
             a.set_step_size(h);
             a.step(&mut m).unwrap();
-            // Kahan: the plain sum's rounding would be an error in time of its own
-            let y = h - comp;
-            let sum = t + y;
-            comp = (sum - t) - y;
-            t = sum;
+            t.add(h);
         }
-        let want = Exact::momentum_at(&b, &m0, t).unwrap();
+        let want = Exact::momentum_at(&b, &m0, t.t).unwrap();
         let e = dist(m, want) / norm(want);
         println!("m0 {m0:?} (blip {blip}): 1e5 jittered steps, m off by {e:.1e}");
         assert!(e < 1e-13, "{m0:?} blip {blip}: {e:e}");
@@ -406,23 +427,16 @@ fn retimed_dmv_follows_a_ramping_clock() {
     ] {
         let mut a = RetimedMv::new(b, 0.005, order).unwrap();
         let mut m = m0;
-        let (mut t, mut comp) = (0.0f64, 0.0f64);
-        let mut x = 99u64;
+        let mut t = Elapsed::default();
+        let mut x = Xorshift(99);
         for k in 1..=4000 {
             let base = 0.005 * (1.0 + 0.9 * ((k as f64 - 200.0) / 100.0).clamp(0.0, 1.0));
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            let u = (x >> 11) as f64 / (1u64 << 53) as f64;
-            let h = base * (1.0 + 0.01 * (2.0 * u - 1.0));
+            let h = base * (1.0 + 0.01 * (2.0 * x.unit() - 1.0));
             a.set_step_size(h);
             a.step(&mut m).unwrap();
-            let y = h - comp;
-            let sum = t + y;
-            comp = (sum - t) - y;
-            t = sum;
+            t.add(h);
         }
-        let want = Exact::momentum_at(&b, &m0, t).unwrap();
+        let want = Exact::momentum_at(&b, &m0, t.t).unwrap();
         let e = dist(m, want) / norm(want);
         println!("m0 {m0:?} order {order}: ramp 200 -> 105 Hz, 4000 steps, m off by {e:.1e}");
         assert!(e < 1e-13, "{m0:?} order {order}: {e:e}");
