@@ -45,9 +45,11 @@ use crate::real::{c, sq, Real};
 /// conditioned as the anchor (whose own solve error the update carries); otherwise (large
 /// steps, large changes, an anchor taken near a principal axis) the exact solve runs, started
 /// from the last ratio `h' / h`. Moments spanning more than 16x always solve (there an exact
-/// retiming also absorbs the DMV step's own rounding along the orbit, which an update cannot). Host, 200 Hz spacecraft, `rigid3-lab loop-cost`: 2.5–2.7x a free-running step in
-/// f64 and 2.8–3.6x in f32 with `h` jittering by 5%, `m` corrected by 1e-4 or a torque kick
-/// every step (the exact solve was 19–47x). The phase refinement below
+/// retiming also absorbs the DMV step's own rounding along the orbit, which an update cannot).
+/// Host, 200 Hz spacecraft, `rigid3-lab loop-cost`: 2.6–2.8x a free-running step in f64 and
+/// 2.9–3.7x in f32 with `h` jittering by 5%, `m` corrected by 1e-4 or a torque kick every step
+/// (the exact solve was 19–47x); turning at 0.43 rad/s (`--m0 3,40,12`), 2.9x under jitter in
+/// f64 (32x before the rest was rescaled). The phase refinement below
 /// goes on through changes of `h` alone; after a change of `m` it stops (the orbit changed),
 /// and 64 steps after the last such change one step retimes exactly (about 1.4 us on the
 /// host: a latency spike to budget for), which brings it back.
