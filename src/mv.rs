@@ -326,6 +326,13 @@ impl<T: Real> Anchor<T> {
         a
     }
 
+    /// Counts a step that did not hold the invariants (`unheld` wraps to `0`, "hold next", every
+    /// [`HOLD_PERIOD`] steps).
+    #[inline(always)]
+    fn count_unheld(&mut self) {
+        self.unheld = self.unheld.wrapping_add(1) & (HOLD_PERIOD - 1);
+    }
+
     /// [`Anchor::take`] in place, keeping the spatial reference.
     #[inline(always)]
     fn retake(&mut self, m: Vec3<T>, k: Invariants<T>, hn: T) {
@@ -833,7 +840,7 @@ impl<T: Real> Mv<T> {
             // at small h |Omega| a step whose input goes on the trajectory (a jittering clock)
             // holds the invariants every HOLD_PERIOD-th step, like a free-running one
             Some(a) if follows && !resynced && !self.retake && t.may_freeze && a.unheld != 0 => {
-                a.unheld = a.unheld.wrapping_add(1) & (HOLD_PERIOD - 1);
+                a.count_unheld();
                 None
             }
             Some(a) if follows && !resynced && !self.retake => {
@@ -933,7 +940,7 @@ impl<T: Real> Mv<T> {
         if !next.is_finite() {
             return None;
         }
-        a.unheld = a.unheld.wrapping_add(1) & (HOLD_PERIOD - 1);
+        a.count_unheld();
         a.last = next;
         Some(Advanced { next, increment })
     }

@@ -133,10 +133,9 @@ pub struct RetimedMv<T> {
 ///   retiming reaches 1.7; in f32 a change of `h` by 1.6–2x still reaches 3.3 in 1 of 2400
 ///   updates: gating the conditioning harder removed it but made f32 long runs 3–10x worse, as
 ///   every refused update is a fresh exact retiming with fresh round-off). Rescaling such a rest
-///   multiplied pure round-off (in f32 at 200 Hz
-///   always the case), and the bound used before, `4 max(|rest|, s^2) d`, refused every change
-///   of a jittering 200 Hz clock on a spacecraft turning at 0.43 rad/s (20x the time of an
-///   update); now, from a fresh start, 58 and 23 of the first two hundred changes retime
+///   multiplied pure round-off (in f32 at 200 Hz always the case), and the bound used before,
+///   `4 max(|rest|, s^2) d`, refused every change of a jittering 200 Hz clock on a spacecraft
+///   turning at 0.43 rad/s (20x the time of an update); now, from a fresh start, 58 and 23 of the first two hundred changes retime
 ///   exactly (anchors far from the middle of the jitter are replaced), none after.
 ///
 /// The phase refinement's corrections are kept apart (`phase`) and not rescaled.
@@ -161,6 +160,15 @@ struct Anchor<T> {
     /// `res = 8 eps (1 + |m| / (h |m x Omega|))` there: the resolution of its exact retiming
     /// (the rest carries an error up to about this).
     res: T,
+}
+
+impl<T: Real> Anchor<T> {
+    /// Whether the measured rest is above the retiming's resolution: then it is rescaled with
+    /// the invariants, else kept as it is (mostly round-off, which does not scale).
+    #[inline(always)]
+    fn resolved(&self) -> bool {
+        self.rest.abs() > self.res
+    }
 }
 
 /// The model's step at a momentum: `h' = h ratio`, the anchor it came from, and the scaled
@@ -338,9 +346,7 @@ impl<T: Real> RetimedMv<T> {
         let anchor = self.anchor?;
         let (hh, cc, s3, mag) = self.scaled_invariants(self.h, m);
         let (rh, rc) = (hh * anchor.inv_hh, cc * anchor.inv_cc);
-        // only a rest measured above the retiming's resolution is rescaled: below it the
-        // measured rest is mostly the anchor's round-off, which does not scale
-        let grow = if anchor.rest.abs() > anchor.res {
+        let grow = if anchor.resolved() {
             self.rest_scale((rh + rc) * c::<T>(0.5))
         } else {
             T::ONE
@@ -394,7 +400,7 @@ impl<T: Real> RetimedMv<T> {
         };
         let h = self.h;
         let d = (rh - T::ONE).abs().max((rc - T::ONE).abs());
-        let bound = if a.rest.abs() > a.res {
+        let bound = if a.resolved() {
             // a resolved rest is rescaled by the mean growth of H and C: exact at leading
             // order for a change of h alone (both grow alike), off by the leading term times
             // |rh - rc| for a change of m; the next order (about s times the rest) is not
@@ -798,8 +804,8 @@ mod tests {
         let mut a = RetimedMv::new(body, 0.005, 2).unwrap();
         let mut s = State::new([3.0, 40.0, 12.0], [1.0, 0.0, 0.0, 0.0]);
         a.step_state(&mut s).unwrap();
-        let v = Vec3::from_array(s.m);
-        let hw = 0.005 * v.cross(v.mul_elem(a.inv_i)).norm2().sqrt() / v.norm2().sqrt();
+        let (hw2, m2) = a.conditioning(0.005, &s.m);
+        let hw = (hw2 / m2).sqrt();
         let mut retimed = [0; 4];
         for k in 0..400 {
             let before = anchored(&a);

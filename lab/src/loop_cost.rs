@@ -202,14 +202,16 @@ fn time<T: Real, I: Integrator<T>>(
     Ok(best * 1e9 / steps as f64)
 }
 
+/// The scene: principal moments, initial momentum and attitude.
+type Scene = ([f64; 3], [f64; 3], [f64; 4]);
+
 fn measure_precision<T: Real>(
     precision: &'static str,
     steps: usize,
-    m0: [f64; 3],
+    (inertia, m0, q0): Scene,
     rows: &mut Vec<Row>,
     overhead: &mut Vec<Overhead>,
 ) -> Result<(), String> {
-    let (inertia, _, q0) = spacecraft();
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let h = T::from_f64(SPACECRAFT_H);
     let s0 = State::new(m0.map(T::from_f64), q0.map(T::from_f64));
@@ -277,8 +279,9 @@ pub fn measure(steps: usize, m0: Option<[f64; 3]>) -> Result<LoopCost, String> {
     }
     let mut rows = Vec::new();
     let mut overhead = Vec::new();
-    measure_precision::<f64>("f64", steps, m0, &mut rows, &mut overhead)?;
-    measure_precision::<f32>("f32", steps, m0, &mut rows, &mut overhead)?;
+    let scene = (inertia, m0, q0);
+    measure_precision::<f64>("f64", steps, scene, &mut rows, &mut overhead)?;
+    measure_precision::<f32>("f32", steps, scene, &mut rows, &mut overhead)?;
     Ok(LoopCost {
         steps,
         h: SPACECRAFT_H,
