@@ -219,7 +219,7 @@ pub struct Mv<T> {
     /// `I^-1`.
     inv_i: Vec3<T>,
     /// `h I^-1 / 4`, for the attitude's update ([`Mv::rotation_between`]).
-    turn_scale: Vec3<T>,
+    turn_scale: Lane4<T>,
     /// The free-running map's coefficients for the current trajectory, `h` and body (built
     /// by the first free-running step at small `h |Omega|`, dropped by every other step).
     frozen: Option<FrozenMap<T>>,
@@ -235,6 +235,30 @@ pub struct Mv<T> {
 /// stays bounded (tests/soak.rs); a step never costs more than before.
 const HOLD_PERIOD: u8 = 8;
 const _: () = assert!(HOLD_PERIOD.is_power_of_two());
+
+/// A 3-vector followed by a zero on hosts: x86's SLP vectorizer loads a field like this 16
+/// bytes at a time, and the fourth lane it multiplies along is then zero, not the bits of
+/// whatever field follows (a flag read as a subnormal f32: each multiply with it took a
+/// microcode assist, on 7 of 8 f32 steps; tests/host_subnormals.rs). Bare-metal targets have
+/// no vector lanes and keep the 12 bytes (an integrator on a Cortex-M4F stack is not made
+/// larger for a host's sake).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+struct Lane4<T> {
+    v: Vec3<T>,
+    #[cfg(not(target_os = "none"))]
+    zero: T,
+}
+
+impl<T: Real> Lane4<T> {
+    fn new(v: Vec3<T>) -> Self {
+        Self {
+            v,
+            #[cfg(not(target_os = "none"))]
+            zero: T::ZERO,
+        }
+    }
+}
 
 /// The invariants the trajectory must keep: taken from the input whenever it is not the
 /// momentum this integrator returned last (the caller changed it). They are the DMV map's
@@ -419,7 +443,7 @@ impl<T: Real> Mv<T> {
         next: Vec3<T>,
         increment: Vec3<T>,
     ) -> Result<(Quat<T>, bool), StepError> {
-        let w = self.turn_scale;
+        let w = self.turn_scale.v;
         let b = Vec3::new(
             w.x * (m.x + next.x),
             w.y * (m.y + next.y),
@@ -494,7 +518,7 @@ impl<T: Real> Mv<T> {
             recheck: false,
             retake: false,
             inv_i: body.inverse_inertia(),
-            turn_scale: body.inverse_inertia().scale(h * c::<T>(0.25)),
+            turn_scale: Lane4::new(body.inverse_inertia().scale(h * c::<T>(0.25))),
             phase: 0,
             frozen: None,
         }
@@ -644,7 +668,7 @@ impl<T: Real> Mv<T> {
         let (new, old) = (j.max_element(), self.body.mass_matrix_vec().max_element());
         self.body = body;
         self.inv_i = inv_i;
-        self.turn_scale = inv_i.scale(self.h * c::<T>(0.25));
+        self.turn_scale.v = inv_i.scale(self.h * c::<T>(0.25));
         self.recheck = true;
         // the anchored beta depends on J: taken again at the next step
         self.retake = true;
@@ -1302,7 +1326,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn set_step_size(&mut self, h: T) {
         let old = self.h;
         self.h = h;
-        self.turn_scale = self.inv_i.scale(h * c::<T>(0.25));
+        self.turn_scale.v = self.inv_i.scale(h * c::<T>(0.25));
         self.recheck = true;
         // the tracked root is kept within 2x of the old step: (h / old)^2 in [1/4, 4], false
         // for a NaN or infinite h and for old = 0 (one division: the four comparisons of

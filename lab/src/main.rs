@@ -2,7 +2,9 @@
 
 use clap::{Parser, Subcommand};
 use rigid3::{Body, Real, State};
-use rigid3_lab::forced_methods::{make_forced, needs_exact_drift, ForceSpec, FORCED_METHODS};
+use rigid3_lab::forced_methods::{
+    describe_forced, make_forced, needs_exact_drift, ForceSpec, FORCED_METHODS,
+};
 use rigid3_lab::methods::{describe, make, METHODS};
 use rigid3_lab::propagate::{propagate, propagate_forced, Report};
 use std::process::ExitCode;
@@ -213,7 +215,10 @@ fn main() -> ExitCode {
                 }
             };
             let steps = (t / h).abs().round() as usize;
-            let report = match (spec.is_free(), f32) {
+            // a free scene runs the free methods; a forced method's name without any force
+            // (forced4, fg4-pre6, ...) runs it with no torque and no rotor
+            let free = spec.is_free() && METHODS.contains(&method.as_str());
+            let report = match (free, f32) {
                 (true, true) => run::<f32>(&method, inertia, m0, q0, h, steps),
                 (true, false) => run::<f64>(&method, inertia, m0, q0, h, steps),
                 (false, true) => run_forced::<f32>(&method, inertia, m0, q0, h, steps, &spec),
@@ -224,7 +229,7 @@ fn main() -> ExitCode {
                     if json {
                         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
                     } else {
-                        print_report(&r);
+                        print_report(&r, !free);
                     }
                     if r.error.is_some() {
                         ExitCode::FAILURE
@@ -239,8 +244,16 @@ fn main() -> ExitCode {
             }
         }
         Command::Methods => {
+            println!("free body (propagate without force flags):");
             for m in METHODS {
-                println!("{m:<12} {}", describe(m));
+                println!("  {m:<16} {}", describe(m));
+            }
+            println!(
+                "forced body (propagate with --rotor, --gravity, --gravity-gradient or \
+                 --body-torque; the names below that are not free methods also run without):"
+            );
+            for m in FORCED_METHODS {
+                println!("  {m:<16} {}", describe_forced(m));
             }
             ExitCode::SUCCESS
         }
@@ -492,6 +505,8 @@ fn run_forced<T: Real + 'static>(
             format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
         } else if FORCED_METHODS.contains(&method) {
             format!("'{method}' cannot be built for this body and step")
+        } else if !METHODS.contains(&method) {
+            format!("unknown method '{method}' (see `rigid3-lab methods`)")
         } else {
             format!(
                 "unknown forced method '{method}' (forced methods: {})",
@@ -512,8 +527,20 @@ fn run_forced<T: Real + 'static>(
     ))
 }
 
-fn print_report(r: &Report) {
-    println!("method   {}  ({})", r.method, describe(&r.method));
+/// The report of a run; `forced`: a run of a forced method, whose `|m|^2`, `E` and `R(q) m`
+/// change under a torque (their largest relative change is printed, not a drift).
+fn print_report(r: &Report, forced: bool) {
+    let what = if forced {
+        describe_forced(&r.method)
+    } else {
+        describe(&r.method)
+    };
+    let change = if forced {
+        "max rel change"
+    } else {
+        "max rel drift"
+    };
+    println!("method   {}  ({what})", r.method);
     println!("h        {}   steps {}   t {}", r.h, r.steps, r.t);
     println!("m        {:.17e} {:.17e} {:.17e}", r.m[0], r.m[1], r.m[2]);
     if let Some(q) = r.q {
@@ -523,16 +550,16 @@ fn print_report(r: &Report) {
         );
     }
     println!(
-        "energy   {:.17e}   max rel drift {:.3e}",
+        "energy   {:.17e}   {change} {:.3e}",
         r.energy, r.energy_drift
     );
     println!(
-        "|m|^2    {:.17e}   max rel drift {:.3e}",
+        "|m|^2    {:.17e}   {change} {:.3e}",
         r.casimir, r.casimir_drift
     );
     if let (Some(p), Some(d)) = (r.spatial_momentum, r.spatial_momentum_drift) {
         println!(
-            "R(q) m   {:.17e} {:.17e} {:.17e}   max rel drift {:.3e}",
+            "R(q) m   {:.17e} {:.17e} {:.17e}   {change} {:.3e}",
             p[0], p[1], p[2], d
         );
     }

@@ -273,3 +273,36 @@ fn propagate_runs_the_nystrom_and_force_gradient_splittings_and_refuses_them_a_r
         assert!(!ok && out.contains("takes no rotor"), "{out}");
     }
 }
+
+/// A forced method's name without any force runs the method on the free body: the
+/// composition of order 4 keeps `|m|^2` and the energy (no torque) and lands on `exact`'s
+/// state to its order (h = 0.1, T = 10: within 1e-5, where `mv` is 1e-2 off); the report
+/// names the forced method and `methods` lists the forced names.
+#[test]
+fn a_forced_method_runs_without_forces_and_is_listed() {
+    let f4 = propagate_json("forced4", &[]);
+    let ex = m_of(&propagate_json("exact", &[]));
+    let mv = m_of(&propagate_json("mv", &[]));
+    let (a, b) = (m_of(&f4), ex);
+    let dist = |x: [f64; 3], y: [f64; 3]| {
+        ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt()
+    };
+    assert!(dist(a, b) < 1e-5, "forced4 {a:?} exact {b:?}");
+    assert!(
+        dist(mv, b) > 1e-3,
+        "mv {mv:?}: the comparison must tell the orders apart"
+    );
+    for key in ["casimir_drift", "energy_drift"] {
+        let d = f4[key].as_f64().unwrap();
+        assert!(d < 1e-13, "{key} {d}");
+    }
+    let mut args = vec!["propagate", "--method", "fg4-pre6", "--h", "0.1"];
+    args.extend_from_slice(&TALK);
+    let (ok, out) = lab(&args);
+    assert!(ok && out.contains("force-gradient"), "{out}");
+    let (ok, out) = lab(&["methods"]);
+    assert!(ok, "{out}");
+    for name in ["forced4", "forced6-pre6", "nystrom4-pre10", "fg4-pre6"] {
+        assert!(out.contains(name), "{name} not listed: {out}");
+    }
+}
