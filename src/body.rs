@@ -27,7 +27,8 @@ impl<T: Real> Body<T> {
     /// # Errors
     ///
     /// [`BodyError::NonFinite`] for a NaN or infinite moment,
-    /// [`BodyError::NonPositiveMoment`] for a moment `<= 0`, and
+    /// [`BodyError::NonPositiveMoment`] for a moment `<= 0`,
+    /// [`BodyError::SubnormalMoment`] for a positive moment below `T::MIN_POSITIVE`, and
     /// [`BodyError::TriangleInequality`] when a moment exceeds the sum of the other two by
     /// more than `4 eps` of the largest.
     pub fn from_inertia(inertia: [T; 3]) -> Result<Self, BodyError> {
@@ -37,6 +38,9 @@ impl<T: Real> Body<T> {
         }
         if !(i1 > T::ZERO && i2 > T::ZERO && i3 > T::ZERO) {
             return Err(BodyError::NonPositiveMoment);
+        }
+        if i1 < T::MIN_POSITIVE || i2 < T::MIN_POSITIVE || i3 < T::MIN_POSITIVE {
+            return Err(BodyError::SubnormalMoment);
         }
         Self::from_positive_inertia(inertia)
     }
@@ -71,8 +75,9 @@ impl<T: Real> Body<T> {
     /// # Errors
     ///
     /// [`BodyError::NonFinite`] for a NaN or infinite entry (or moments `J_j + J_k` that
-    /// overflow), [`BodyError::NegativeMassMatrix`] for a `J_i < 0`, and
-    /// [`BodyError::NonPositiveMoment`] when two entries are zero.
+    /// overflow), [`BodyError::NegativeMassMatrix`] for a `J_i < 0`,
+    /// [`BodyError::NonPositiveMoment`] when two entries are zero, and
+    /// [`BodyError::SubnormalMoment`] for a moment `J_j + J_k` below `T::MIN_POSITIVE`.
     pub fn from_mass_matrix(mass_matrix: [T; 3]) -> Result<Self, BodyError> {
         let [j1, j2, j3] = mass_matrix;
         if !(j1.is_finite() && j2.is_finite() && j3.is_finite()) {
@@ -87,6 +92,12 @@ impl<T: Real> Body<T> {
         }
         if !(inertia[0].is_finite() && inertia[1].is_finite() && inertia[2].is_finite()) {
             return Err(BodyError::NonFinite);
+        }
+        if inertia[0] < T::MIN_POSITIVE
+            || inertia[1] < T::MIN_POSITIVE
+            || inertia[2] < T::MIN_POSITIVE
+        {
+            return Err(BodyError::SubnormalMoment);
         }
         Ok(Self {
             inertia,

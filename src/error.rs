@@ -18,6 +18,11 @@ pub enum BodyError {
     NegativeMassMatrix,
     /// The inertia tensor is not symmetric (to a relative tolerance of `64 eps`).
     NotSymmetric,
+    /// A principal moment of inertia is positive but subnormal (below `MIN_POSITIVE`, about
+    /// `1.2e-38` in f32 and `2.2e-308` in f64): the mass matrix and the step's products of
+    /// moments underflow to zero there, so no method could step the body correctly. Rescale
+    /// the units (a gram-centimetre body in kilogram-metres is still far above this).
+    SubnormalMoment,
 }
 
 impl fmt::Display for BodyError {
@@ -30,6 +35,9 @@ impl fmt::Display for BodyError {
             }
             BodyError::NegativeMassMatrix => "a mass-matrix entry J_i is negative",
             BodyError::NotSymmetric => "the inertia tensor is not symmetric",
+            BodyError::SubnormalMoment => {
+                "a principal moment of inertia is subnormal (rescale the units)"
+            }
         })
     }
 }

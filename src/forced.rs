@@ -80,21 +80,32 @@ pub(crate) struct LastKick<T> {
     pub(crate) tau: Vec3<T>,
 }
 
-/// The rotor's half-step turn for step `h`: `None` without a rotor.
-pub(crate) fn half_turn<T: Real>(w: Vec3<T>, h: T) -> Option<Quat<T>> {
+/// The rotor's half-step turn for step `h`: the Cayley quaternion `((1 - |u|^2), 2 u) /
+/// (1 + |u|^2)`, `u = -h I^-1 h_r / 8`, the rotation by `4 atan(|u|)` (`h |I^-1 h_r| / 2` to
+/// third order) about `-I^-1 h_r`; `Ok(None)` without a rotor. `StepTooLarge` past half a
+/// revolution (`|u| > 1`, `h |I^-1 h_r| > 8`), where the Cayley form wraps around and, further
+/// out, `|u|^2` overflows; `NonFinite` for a non-finite `h` with a rotor.
+pub(crate) fn half_turn<T: Real>(w: Vec3<T>, h: T) -> Result<Option<Quat<T>>, StepError> {
     if w.x == T::ZERO && w.y == T::ZERO && w.z == T::ZERO {
-        return None;
+        return Ok(None);
     }
     let u = w.scale(-h * c::<T>(0.125));
     let n = u.norm2();
+    if !(n <= T::ONE) {
+        return Err(if h.is_finite() {
+            StepError::StepTooLarge
+        } else {
+            StepError::NonFinite
+        });
+    }
     let inv = T::ONE / (T::ONE + n);
     let two_inv = inv + inv;
-    Some(Quat {
+    Ok(Some(Quat {
         w: (T::ONE - n) * inv,
         x: u.x * two_inv,
         y: u.y * two_inv,
         z: u.z * two_inv,
-    })
+    }))
 }
 
 /// `R(p)^T m`.
@@ -230,15 +241,17 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         }
     }
 
-    pub(crate) fn set_rotor(&mut self, body: &Body<T>, h_r: [T; 3]) -> Result<(), StepError> {
+    /// The rotor `h_r` and `I^-1 h_r`, checked (`NonFinite`, `Overflow`), not yet set.
+    pub(crate) fn checked_rotor(
+        body: &Body<T>,
+        h_r: [T; 3],
+    ) -> Result<(Vec3<T>, Vec3<T>), StepError> {
         let r = checked_momentum(&h_r)?;
         let w = r.mul_elem(body.inverse_inertia());
         if !w.is_finite() {
             return Err(StepError::Overflow);
         }
-        self.rotor = r;
-        self.rotor_w = w;
-        Ok(())
+        Ok((r, w))
     }
 
     /// The torque at `(t, q)`, reusing the last step's end evaluation when it is the same.
@@ -428,7 +441,13 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 pub struct Forced<T, D, F> {
     drift: D,
     forcing: Forcing<T, F>,
+    /// The rotor's half turn; an infinite quaternion when it cannot be taken at the current `h` (a
+    /// change of `h` cannot be refused, so the steps are until it comes back): the drift then
+    /// refuses the turned, non-finite input, and the step reports `turn_refused` instead. No
+    /// test on the step's path: an early return there cost the M4F 68 instructions a step.
     turn: Option<Quat<T>>,
+    /// Why the rotor's half turn cannot be taken at the current `h`.
+    turn_refused: Option<StepError>,
 }
 
 impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
@@ -439,6 +458,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
             drift,
             forcing: Forcing::new(torque),
             turn: None,
+            turn_refused: None,
         }
     }
 
@@ -446,12 +466,46 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     ///
     /// # Errors
     ///
-    /// `NonFinite` for a non-finite `h_r`, `Overflow` if `I^-1 h_r` overflows; the rotor is
-    /// then left as it was.
+    /// `NonFinite` for a non-finite `h_r`, `Overflow` if `I^-1 h_r` overflows, and
+    /// `StepTooLarge` if the rotor's half turn at the current step passes half a revolution
+    /// (`h |I^-1 h_r| > 8`); the rotor is then left as it was. (A later change of `h` past that
+    /// limit makes the steps return `StepTooLarge` until `h` or the rotor is brought back.)
     pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
-        self.forcing.set_rotor(self.drift.body(), h_r)?;
-        self.turn = half_turn(self.forcing.rotor_w, self.drift.step_size());
+        let (r, w) = Forcing::<T, F>::checked_rotor(self.drift.body(), h_r)?;
+        let turn = half_turn(w, self.drift.step_size());
+        // a turn refused for a non-finite h is the h's fault, not the rotor's: taken
+        if turn == Err(StepError::StepTooLarge) {
+            return Err(StepError::StepTooLarge);
+        }
+        self.forcing.rotor = r;
+        self.forcing.rotor_w = w;
+        self.set_turn(turn);
         Ok(())
+    }
+
+    fn set_turn(&mut self, turn: Result<Option<Quat<T>>, StepError>) {
+        (self.turn, self.turn_refused) = match turn {
+            Ok(p) => (p, None),
+            Err(e) => {
+                let inf = T::MAX * c::<T>(2.0);
+                (
+                    Some(Quat {
+                        w: inf,
+                        x: inf,
+                        y: inf,
+                        z: inf,
+                    }),
+                    Some(e),
+                )
+            }
+        };
+    }
+
+    /// A step's error as the caller should see it: the refused rotor turn's reason when there
+    /// is one (the drift saw only the non-finite input it made), else the error itself.
+    #[cold]
+    fn refusal(&self, e: StepError) -> StepError {
+        self.turn_refused.unwrap_or(e)
     }
 
     forcing_accessors!();
@@ -489,7 +543,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         // kick a non-finite result (a non-finite end torque makes one); a turn needs the
         // unit attitude first. The drift may then have stepped: its own next step sees the
         // caller's state as an outside change, as after any correction.
-        let (m, q) = if self.turn.is_some() {
+        let turn = self.turn;
+        let (m, q) = if turn.is_some() {
             checked_state(s)?
         } else {
             (Vec3::from_array(s.m), Quat::from_array(s.q))
@@ -501,14 +556,15 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         let (m, q, _) = kdk(
             &mut self.drift,
             &given,
-            self.turn,
+            turn,
             h,
             T::ZERO,
             m,
             q,
             tau0,
             &mut self.forcing.lost,
-        )?;
+        )
+        .map_err(|e| self.refusal(e))?;
         s.m = m.to_array();
         s.q = q.to_array();
         self.forcing.clock = clock;
@@ -524,6 +580,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         if self.forcing.torque.depends_on_attitude() {
             return Err(StepError::NeedsAttitude);
         }
+        let turn = self.turn;
         let v = checked_momentum(m)?;
         let h = self.drift.step_size();
         let t0 = self.forcing.clock.t;
@@ -532,14 +589,15 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let next = kdk_momentum(
             &mut self.drift,
             &self.forcing.torque,
-            self.turn,
+            turn,
             h,
             t0,
             clock.t,
             v,
             &mut lost,
-        )?;
-        let next = if self.turn.is_some() {
+        )
+        .map_err(|e| self.refusal(e))?;
+        let next = if turn.is_some() {
             self.forcing.hold_casimir(v, next)
         } else {
             next
@@ -551,6 +609,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        let turn = self.turn;
         let (m0, q) = checked_state(s)?;
         let h = self.drift.step_size();
         let tau0 = self.forcing.torque_at(self.forcing.clock.t, q)?;
@@ -559,15 +618,16 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let (m, q, tau1) = kdk(
             &mut self.drift,
             &self.forcing.torque,
-            self.turn,
+            turn,
             h,
             clock.t,
             m0,
             q,
             tau0,
             &mut lost,
-        )?;
-        let m = if self.turn.is_some() {
+        )
+        .map_err(|e| self.refusal(e))?;
+        let m = if turn.is_some() {
             self.forcing.hold_casimir(m0, m)
         } else {
             m
@@ -582,7 +642,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
 
     fn set_step_size(&mut self, h: T) {
         self.drift.set_step_size(h);
-        self.turn = half_turn(self.forcing.rotor_w, h);
+        self.set_turn(half_turn(self.forcing.rotor_w, h));
     }
 
     fn body(&self) -> &Body<T> {

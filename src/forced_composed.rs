@@ -290,6 +290,8 @@ fn stage<'a, T: Copy, D>(
 pub struct Composed<T, D, F> {
     stages: [D; STAGES],
     turns: [Option<Quat<T>>; STAGES],
+    /// Why a stage's rotor turn cannot be taken at this `h`, if so (the steps refuse).
+    turn_check: Result<(), StepError>,
     /// `a_i`, the distinct drift coefficients.
     drift_coef: [T; STAGES],
     /// `a_i h`.
@@ -332,6 +334,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         Self {
             stages,
             turns: [None; STAGES],
+            turn_check: Ok(()),
             drift_coef,
             drift_len: drift_coef.map(|a| a * h),
             kick_coef,
@@ -441,15 +444,41 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
             });
         }
         let body = *self.stages[0].body();
-        self.forcing.set_rotor(&body, h_r)?;
-        self.update_turns();
+        let (r, w) = Forcing::<T, F>::checked_rotor(&body, h_r)?;
+        let (turns, check) = Self::turns_for(w, &self.drift_len);
+        if check == Err(StepError::StepTooLarge) {
+            return Err(StepError::StepTooLarge);
+        }
+        self.forcing.rotor = r;
+        self.forcing.rotor_w = w;
+        self.turns = turns;
+        self.turn_check = check;
         Ok(())
     }
 
-    fn update_turns(&mut self) {
-        for (t, a) in self.turns.iter_mut().zip(self.drift_len) {
-            *t = half_turn(self.forcing.rotor_w, a);
+    /// Each stage's rotor half turn for `w = I^-1 h_r`, and the first stage's refusal if any
+    /// turn cannot be taken ([`half_turn`]).
+    fn turns_for(
+        w: Vec3<T>,
+        lengths: &[T; STAGES],
+    ) -> ([Option<Quat<T>>; STAGES], Result<(), StepError>) {
+        let mut turns = [None; STAGES];
+        let mut check = Ok(());
+        for (t, &a) in turns.iter_mut().zip(lengths) {
+            match half_turn(w, a) {
+                Ok(p) => *t = p,
+                Err(e) => {
+                    if check.is_ok() {
+                        check = Err(e);
+                    }
+                }
+            }
         }
+        (turns, check)
+    }
+
+    fn update_turns(&mut self) {
+        (self.turns, self.turn_check) = Self::turns_for(self.forcing.rotor_w, &self.drift_len);
     }
 
     forcing_accessors!();
@@ -476,6 +505,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         if self.forcing.torque.depends_on_attitude() {
             return Err(StepError::NeedsAttitude);
         }
+        self.turn_check?;
         let id = [T::ONE, T::ZERO, T::ZERO, T::ZERO];
         let v0 = checked_momentum(m)?;
         let mut clock = self.forcing.clock;
@@ -523,6 +553,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        self.turn_check?;
         let (m0, q0) = checked_state(s)?;
         let mut clock = self.forcing.clock;
         let end = self.forcing.clock_after(self.h)?;

@@ -473,8 +473,10 @@ impl<T: Real> Modifier<T> {
         }
         let (cc, hh) = self.scaled_invariants(h, m);
         if !(cc.is_finite() && hh.is_finite()) {
+            // with m and h finite, (h m / kappa)^2 overflows only for h |Omega| beyond 1e19
+            // (f32), far past any DMV step's limit: the step is too large, as `Mv` says
             return Err(if m.iter().all(|x| x.is_finite()) {
-                StepError::Overflow
+                StepError::StepTooLarge
             } else {
                 StepError::NonFinite
             });

@@ -72,16 +72,28 @@ impl<T: Real> Quaternion<T> {
     /// `exp(v / 2)`: the rotation by the rotation vector `v` (angle `|v|` about `v / |v|`), the
     /// attitude error of [`crate::tangent`] (`q = q^ * Quaternion::from_rotation_vector(dtheta)`
     /// is a multiplicative EKF's correction). Exact at `v = 0` (the identity) and accurate to
-    /// a few ulps for every `v` (`sin(a)/a` by its series below `a = 2^-13`).
+    /// a few ulps for every finite `v` (`sin(a)/a` by its series below `a = 2^-13`; `|v|` from
+    /// the components scaled by the largest when `|v|^2` overflows, above about `1.8e19` in
+    /// f32, so every finite `v` gives a unit quaternion). A NaN or infinite `v` gives a
+    /// non-finite quaternion.
     #[must_use]
     pub fn from_rotation_vector(v: [T; 3]) -> Self {
         let n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-        let half_angle = n2.sqrt() * c::<T>(0.5);
+        let half_angle = if n2.is_finite() {
+            n2.sqrt() * c::<T>(0.5)
+        } else {
+            // |v|^2 overflowed (or v is not finite, which stays so): |v| / 2 = (s / 2) |v / s|,
+            // halved first since |v| itself can pass MAX
+            let s = v[0].abs().max(v[1].abs()).max(v[2].abs());
+            let (a, b, d) = (v[0] / s, v[1] / s, v[2] / s);
+            (s * c::<T>(0.5)) * (a * a + b * b + d * d).sqrt()
+        };
         // sin(a) / (2 a) as the factor on v, a = |v| / 2
         let k = if half_angle < c::<T>(1.0 / 8192.0) {
             (T::ONE - half_angle * half_angle * c::<T>(1.0 / 6.0)) * c::<T>(0.5)
         } else {
-            half_angle.sin() / (half_angle + half_angle)
+            // halved before the division: 2 a overflows for a above MAX / 2
+            (half_angle.sin() * c::<T>(0.5)) / half_angle
         };
         Self::new(half_angle.cos(), v[0] * k, v[1] * k, v[2] * k)
     }

@@ -102,6 +102,44 @@ fn bad_moments_are_named() {
     );
 }
 
+/// Subnormal moments: the mass matrix underflowed to zero and `Mv::max_step` returned NaN on
+/// such a body (found in review: `[1e-45; 3]` in f32, `[5e-324; 3]` in f64), and a step that
+/// `max_step` allowed was refused (`[1e-39, 1.2e-39, 1.5e-39]`). Refused at construction by
+/// every constructor; the smallest normal body is kept, and its `max_step` is a number the
+/// step honours.
+#[test]
+fn subnormal_moments_are_refused() {
+    let sub = Some(BodyError::SubnormalMoment);
+    assert_eq!(Body::<f32>::from_inertia([1e-45; 3]).err(), sub);
+    assert_eq!(
+        Body::<f32>::from_inertia([1e-39, 1.2e-39, 1.5e-39]).err(),
+        sub
+    );
+    assert_eq!(Body::<f64>::from_inertia([5e-324; 3]).err(), sub);
+    assert_eq!(
+        Body::<f64>::from_inertia([1e-320, 1.0e-320, 1.0e-320]).err(),
+        sub
+    );
+    assert_eq!(
+        Body::<f64>::from_mass_matrix([1e-320, 1e-320, 1e-320]).err(),
+        sub
+    );
+    assert_eq!(
+        Body::<f32>::from_inertia_tensor([[1e-40, 0.0, 0.0], [0.0, 1e-40, 0.0], [0.0, 0.0, 1e-40]])
+            .err(),
+        sub
+    );
+    let tiny = f32::MIN_POSITIVE;
+    let b = Body::<f32>::from_inertia([tiny * 2.0, tiny * 3.0, tiny * 4.0]).unwrap();
+    let m = [tiny, -2.0 * tiny, 3.0 * tiny];
+    let h = rigid3::Mv::max_step(&b, &m);
+    assert!(h.is_finite() && h > 0.0, "max_step {h}");
+    let mut s = m;
+    rigid3::Integrator::step(&mut rigid3::Mv::new(b, 0.5 * h), &mut s).unwrap();
+    let (c0, c1) = (b.casimir(&m), b.casimir(&s));
+    assert!((c1 - c0).abs() <= 1e-5 * c0, "|m|^2 {c0} -> {c1}");
+}
+
 #[test]
 fn planar_body_is_valid_despite_rounding() {
     // 0.1 + 0.2 != 0.3 in binary: the flat plate I3 = I1 + I2 must still be accepted

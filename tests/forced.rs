@@ -900,3 +900,55 @@ fn force_gradient_turned_attitudes_are_unit_and_f32_large_torques_step() {
     println!("f32, tau x I^-1 tau beyond f32::MAX: against the f64 step {rel:e}");
     assert!(rel <= 1e-6, "{rel:e}");
 }
+
+/// A rotor whose half turn passes half a revolution (`h |I^-1 h_r| > 8`, where the rotor's
+/// Cayley turn wraps around and, further out, overflows) is refused by `set_rotor`, which
+/// keeps the rotor it had; a change of `h` that takes an accepted rotor past the limit makes
+/// the steps `StepTooLarge`, state and time untouched, until `h` comes back. Found in review:
+/// `set_rotor([1e30, 0, 0])` returned `Ok` and every step after it `NonFinite`, with state,
+/// step, torque and rotor all finite.
+#[test]
+fn a_rotor_turn_past_half_a_revolution_is_refused() {
+    let body = Body::<f32>::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let h = 0.005f32;
+    let s0 = State::new([0.3f32, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
+    let small = [0.1f32, 0.2, -0.1];
+    let mut f = Forced::new(Mv::new(body, h), ConstantTorque([1e-3f32, 0.0, 0.0]));
+    let mut c = Composed::new(Mv::new(body, h), NoTorque, 4).unwrap();
+    f.set_rotor(small).unwrap();
+    c.set_rotor(small).unwrap();
+    // |I^-1 h_r| h = 1e30 * 0.005, 1e4 * 0.005 = 50: refused; 1e3 * 0.005 = 5: a big turn
+    for big in [1e30f32, 1e4] {
+        assert_eq!(f.set_rotor([big, 0.0, 0.0]), Err(StepError::StepTooLarge));
+        assert_eq!(c.set_rotor([big, 0.0, 0.0]), Err(StepError::StepTooLarge));
+        assert_eq!((f.rotor(), c.rotor()), (small, small));
+    }
+    let mut s = s0;
+    f.step_state(&mut s).unwrap();
+    assert!(s.m.iter().chain(&s.q).all(|x| x.is_finite()));
+    f.set_rotor([1e3, 0.0, 0.0]).unwrap();
+    c.set_rotor([1e3, 0.0, 0.0]).unwrap();
+    // h = 0.05: |I^-1 h_r| h = 50 for Forced, and each of Composed's stages turns past 8 too
+    for a in [&mut f as &mut dyn Integrator<f32>, &mut c] {
+        a.set_step_size(0.05);
+        let mut s = s0;
+        assert_eq!(a.step_state(&mut s), Err(StepError::StepTooLarge));
+        assert_eq!(s, s0);
+        let mut m = s0.m;
+        assert_eq!(a.step(&mut m), Err(StepError::StepTooLarge));
+        assert_eq!(m, s0.m);
+        a.set_step_size(h);
+        let mut s = s0;
+        a.step_state(&mut s).unwrap();
+        assert!(s.m.iter().chain(&s.q).all(|x| x.is_finite()));
+    }
+    // f stepped twice (once before the big rotor), c once
+    assert_eq!((f.time(), c.time()), (2.0 * h, h));
+    let mut s = s0;
+    f.set_step_size(0.05);
+    assert_eq!(
+        f.step_state_with(&mut s, [0.0; 3], [0.0; 3]),
+        Err(StepError::StepTooLarge)
+    );
+    assert_eq!((s, f.time()), (s0, 2.0 * h));
+}

@@ -94,6 +94,30 @@ fn rotations_by_half_turns_and_small_angles() {
         Quaternion::<f64>::from_rotation_vector([0.0; 3]),
         Quaternion::IDENTITY
     );
+    // past the overflow of |v|^2 (about 1.8e19 in f32): still from_axis_angle of (axis, |v|),
+    // whose angle the f64 oracle reduces from the same f32 |v| (review: all NaN at 1e30)
+    for v in [
+        [1e30f32, 0.0, 0.0],
+        [3e19, -4e19, 1e19],
+        [f32::MAX, f32::MAX, 0.0],
+    ] {
+        let r = Quaternion::from_rotation_vector(v).to_array();
+        let n = v.map(f64::from);
+        let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let angle = f64::from((norm * 0.5) as f32);
+        let want = [
+            angle.cos(),
+            n[0] / norm * angle.sin(),
+            n[1] / norm * angle.sin(),
+            n[2] / norm * angle.sin(),
+        ];
+        for k in 0..4 {
+            assert!(
+                (f64::from(r[k]) - want[k]).abs() < 1e-6,
+                "{v:?}: {r:?} {want:?}"
+            );
+        }
+    }
 }
 
 #[test]

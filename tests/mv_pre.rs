@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use rigid3::{Body, Integrator, Mv, PreMv, State, StepError};
+use rigid3::{Body, Composed, Integrator, Mv, NoTorque, PreMv, RetimedMv, State, StepError};
 
 /// A scene: body, initial momentum, reference (m, q) at t = 10.
 type Case = (Body<f64>, [f64; 3], ([f64; 3], [f64; 4]));
@@ -537,6 +537,47 @@ fn a_non_finite_step_size_is_refused_as_non_finite() {
             assert_eq!(m, before.m);
             let mut fresh = PreMv::new(b, bad, order).unwrap();
             assert_eq!(fresh.step_state(&mut s), Err(StepError::NonFinite));
+        }
+    }
+}
+
+/// A finite step far past the DMV limit is `StepTooLarge` for every method built on the DMV
+/// step, fresh or after a change of `h`, with the state left as it was (review: `Mv` and
+/// `RetimedMv` said `StepTooLarge` at `h = 1e30`, `PreMv` and its compositions `Overflow`,
+/// from `(h m / kappa)^2` overflowing in the modified moments' series).
+#[test]
+fn a_finite_step_far_past_the_limit_is_step_too_large() {
+    let b = Body::<f32>::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let s0 = State::new([0.3f32, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
+    for h in [1e5f32, 1e10, 1e30] {
+        let mut all: Vec<(String, Box<dyn Integrator<f32>>)> = vec![
+            ("mv".into(), Box::new(Mv::new(b, 0.01))),
+            (
+                "retimed-mv".into(),
+                Box::new(RetimedMv::new(b, 0.01, 2).unwrap()),
+            ),
+            (
+                "forced4-pre4".into(),
+                Box::new(Composed::new(PreMv::new(b, 0.01, 4).unwrap(), NoTorque, 4).unwrap()),
+            ),
+        ];
+        for order in [2u8, 4, 6, 8, 10] {
+            all.push((
+                format!("pre-mv{order}"),
+                Box::new(PreMv::new(b, 0.01, order).unwrap()),
+            ));
+        }
+        for (name, mut a) in all {
+            let mut s = s0;
+            a.step_state(&mut s).unwrap();
+            let before = s;
+            a.set_step_size(h);
+            assert_eq!(
+                a.step_state(&mut s),
+                Err(StepError::StepTooLarge),
+                "{name} h {h:e}"
+            );
+            assert_eq!(s, before, "{name}");
         }
     }
 }

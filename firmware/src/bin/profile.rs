@@ -2,7 +2,7 @@
 //! `PROFILE_STEPS` steps and exits, so that `scripts/profile` can run it under QEMU with one
 //! instruction per translation block and attribute every executed instruction to the (inlined)
 //! function it came from. The method and regime are chosen at build time
-//! (`PROFILE_METHOD=mv|pre-mv4|pre-mv10`, `PROFILE_REGIME=fixed|jitter|corrected|kick`, or `momentum`: fixed `h`, no attitude), as in
+//! (`PROFILE_METHOD=mv|pre-mv4|pre-mv10`, `PROFILE_REGIME=fixed|jitter|corrected|kick`, `wheels`: `Forced` with the gravity-gradient model and a rotor at fixed `h`, or `momentum`: fixed `h`, no attitude), as in
 //! the firmware's regimes table (`bench.rs`): f32 with attitude, `h = 1/200`, a tumble of about
 //! 0.1 rad/s, `h` jittered by +-5 %, `m` corrected by 1e-4, a torque kick every step.
 #![cfg_attr(target_os = "none", no_std, no_main)]
@@ -17,7 +17,7 @@ mod firmware {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
     use defmt_semihosting as _;
-    use rigid3::{Body, Forced, Integrator, Mv, NoTorque, PreMv, State};
+    use rigid3::{Body, Forced, GravityGradient, Integrator, Mv, NoTorque, PreMv, State};
 
     #[panic_handler]
     fn panic(_: &core::panic::PanicInfo) -> ! {
@@ -68,6 +68,21 @@ mod firmware {
                     .is_err() as u32;
             }
             return s.m[0] + s.q[0] + failed as f32 * 1000.0;
+        }
+        if REGIME.as_bytes()[0] == b'w' {
+            // wheels: Forced with the gravity-gradient model and a rotor, fixed h
+            let gg = GravityGradient {
+                k: 1.3e-6,
+                n: 1.1e-3,
+                inertia: a.body().inertia(),
+            };
+            let mut forced = Forced::new(a, gg);
+            let _ = forced.set_rotor([0.5, -0.2, 0.3]);
+            let _ = forced.step_state(&mut s);
+            for _ in 0..STEPS {
+                let _ = forced.step_state(core::hint::black_box(&mut s));
+            }
+            return s.m[0] + s.q[0];
         }
         let _ = a.step_state(&mut s);
         if REGIME.as_bytes()[0] == b'm' {
