@@ -34,6 +34,7 @@ const SECOND_ORDER_STEPS: [f64; 4] = [0.125, 0.0625, 0.03125, 0.015625];
 fn splitting_is_second_order_with_constant_0_25() {
     let b = talk_body();
     let (p, k) = order_and_constant(&|h| Box::new(Splitting::new(b, h)), &SECOND_ORDER_STEPS, 2);
+    eprintln!("Splitting: order {p:.3}, constant {k:.4}");
     assert!(
         (p - 2.0).abs() <= 0.1 && (k - 0.25).abs() <= 0.025,
         "order {p}, constant {k}"
@@ -44,6 +45,7 @@ fn splitting_is_second_order_with_constant_0_25() {
 fn casimir_splitting_is_second_order_with_constant_0_0027() {
     let b = talk_body();
     let (p, k) = order_and_constant(&|h| Box::new(Splitting2::new(b, h)), &SECOND_ORDER_STEPS, 2);
+    eprintln!("Splitting2: order {p:.3}, constant {k:.5}");
     assert!(
         (p - 2.0).abs() <= 0.1 && (k - 0.0027).abs() <= 0.0003,
         "order {p}, constant {k}"
@@ -57,6 +59,7 @@ fn midpoint_is_second_order_with_constant_0_0047_by_either_solver() {
         let make =
             |h| -> Box<dyn Integrator<f64>> { Box::new(Midpoint::with_solver(b, h, solver)) };
         let (p, k) = order_and_constant(&make, &SECOND_ORDER_STEPS, 2);
+        eprintln!("Midpoint ({solver:?}): order {p:.3}, constant {k:.5}");
         assert!(
             (p - 2.0).abs() <= 0.1 && (k - 0.0047).abs() <= 0.0005,
             "{solver:?}: order {p}, constant {k}"
@@ -72,6 +75,7 @@ fn rk4_is_fourth_order() {
         &[0.25, 0.125, 0.0625, 0.03125],
         4,
     );
+    eprintln!("Rk4: order {p:.3}");
     assert!((p - 4.0).abs() <= 0.1, "order {p}");
 }
 

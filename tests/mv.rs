@@ -60,6 +60,7 @@ fn talk_case_is_second_order_with_the_published_constant() {
     let p = observed_order(&hs, &errs);
     assert!((p - 2.0).abs() <= 0.05, "order {p}");
     let constant = errs.last().unwrap() / hs.last().unwrap().powi(2);
+    eprintln!("Mv, talk's case at t = 10: order {p:.3}, error constant {constant:.3}");
     assert!((constant - 0.51).abs() <= 0.05, "error constant {constant}");
 }
 
@@ -140,6 +141,7 @@ fn step_back_with_minus_h_is_the_identity() {
 fn max_step_on_the_talks_case() {
     let body = talk_body();
     let hmax = Mv::max_step(&body, &TALK_M0);
+    eprintln!("Mv::max_step, talk's case: {hmax:.10}");
     assert!((hmax - TALK_MAX_STEP).abs() <= 1e-8, "{hmax}");
     let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
     Mv::new(body, 0.999 * hmax).step_state(&mut s).unwrap();

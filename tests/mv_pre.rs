@@ -207,6 +207,10 @@ fn retiming_an_equilibrium_changes_nothing() {
     assert_eq!(a.retimed_step(&[0.0; 3]), Ok(0.1));
     // talk's case: DMV is slow (tau = h (1 + 0.225 h^2 + ...)), so h' < h
     let hp = a.retimed_step(&TALK_M0).unwrap();
+    eprintln!(
+        "retiming constant tau_3 (talk's case, h = 0.1): {:.4}",
+        (0.1 / hp - 1.0) / 0.01
+    );
     assert!(
         hp < 0.1 && ((0.1 / hp - 1.0) / 0.01 - 0.2253).abs() < 0.01,
         "{hp}"
