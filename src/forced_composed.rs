@@ -595,6 +595,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         }
         if self.turns[0].is_some() {
             m = self.forcing.hold_casimir(m0, m);
+            q = self.forcing.hold_spatial(m0, q0, m, q);
         }
         self.forcing.commit(s, m, q, clock, lost, tau);
         Ok(())
