@@ -376,7 +376,10 @@ macro_rules! forcing_accessors {
         }
 
         /// The time of the state: advanced by each step's `h` with a compensated sum, so it
-        /// stays exact to an ulp of `t` under a jittering `h`.
+        /// stays exact to an ulp of `t` under a jittering `h`. In f32 that ulp is coarse for
+        /// long runs (0.5 s at `t = 5.5e6 s`, 64 days; 1 s beyond `8.4e6 s`): a time-dependent
+        /// torque sees `t` to that resolution, so re-base it with `set_time` (a periodic torque
+        /// keeps its phase when `t` moves by whole periods).
         #[must_use]
         pub fn time(&self) -> T {
             self.forcing.clock.t
@@ -543,6 +546,11 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     }
 
     /// Sets the rotor momentum `h_r` (body frame; reaction wheels). May change between steps.
+    ///
+    /// Convention: `m` is the total angular momentum in the body frame (body and wheels), and
+    /// the body turns at `Omega = I^-1 (m - h_r)`; a change of `h_r` alone (a wheel command)
+    /// leaves `m` and `R(q) m` as they are. With a step size that is not finite the rotor is
+    /// taken and the steps refuse (`NonFinite`) until `h` is finite.
     ///
     /// # Errors
     ///
@@ -721,6 +729,9 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         self.drift.step_size()
     }
 
+    /// Sets the drift's step and the rotor's half turn for it; past half a revolution
+    /// (`h |I^-1 h_r| > 8`) the steps return `StepTooLarge`, state and time untouched, until
+    /// `h` or the rotor comes back.
     fn set_step_size(&mut self, h: T) {
         self.drift.set_step_size(h);
         self.set_turn(half_turn(self.forcing.rotor_w, h));
@@ -730,6 +741,11 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         self.drift.body()
     }
 
+    /// Forgets the drift's per-trajectory data, the cached end torque and the carried part of
+    /// the kicks that rounding lost (sub-ulp impulse, see [`Forced`]): a loop that resets every
+    /// step loses small torques' sub-ulp part again (measured in review: `2e-4 N m` on a sphere
+    /// in f32 at 200 Hz, 4.6 % of the impulse over `10^5` steps). Keeps the time, the torque
+    /// model, the rotor and the step size.
     fn reset(&mut self) {
         self.drift.reset();
         self.forcing.last = None;

@@ -433,8 +433,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
     ///
     /// # Errors
     ///
-    /// `NonFinite` or `Overflow` as [`crate::Forced::set_rotor`]; `RotorUnsupported` for a
-    /// non-zero rotor on a Nyström or force-gradient splitting. The rotor is then unchanged.
+    /// `NonFinite`, `Overflow` or `StepTooLarge` (a stage's half turn past half a revolution)
+    /// as [`crate::Forced::set_rotor`]; `RotorUnsupported` for a non-zero rotor on a Nyström or
+    /// force-gradient splitting. The rotor is then unchanged.
     pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
         if self.nystrom && h_r.iter().any(|&x| x != T::ZERO) {
             return Err(if h_r.iter().all(|x| x.is_finite()) {

@@ -94,7 +94,8 @@ pub trait Integrator<T> {
     fn body(&self) -> &Body<T>;
 
     /// Forgets per-trajectory data (tracked roots, caches), so the next step starts afresh as
-    /// after construction. Integrators without such data do nothing.
+    /// after construction with the current step size (a forced integrator also keeps its
+    /// time, torque and rotor). Integrators without such data do nothing.
     fn reset(&mut self) {}
 
     /// The state one step of size `h` after `s` (any `h`, typically a fraction of the step),
@@ -102,7 +103,8 @@ pub trait Integrator<T> {
     ///
     /// The step is taken by a scratch copy of the integrator with its step size set to `h` and
     /// its per-trajectory data forgotten, so the result is bit-identical to a freshly built
-    /// integrator's `step_state` with step `h`, and the tracked state of `self` (its roots,
+    /// integrator's `step_state` with step `h` (for a forced integrator: one built with the same
+    /// time, torque and rotor, which the copy keeps), and the tracked state of `self` (its roots,
     /// anchors, caches), hence every later step, is exactly as if no partial step had been
     /// taken. Its cost is that of a first step (for `Mv`, the root is found by Newton from its
     /// series, no transcendental call at small `h |Omega|`); `q = [w, x, y, z]` as everywhere.

@@ -81,6 +81,9 @@ impl<T: Real> Torque<T> for NoTorque {
 }
 
 /// A constant body-frame torque (a thruster or magnetorquer command held over the step).
+/// Exact (no arithmetic). Not conservative, so it has no potential, except the zero torque:
+/// its potential is zero and it is [`Torque::is_zero`], so a sum with it keeps the other
+/// part's total energy and a torque-free step with a rotor holds `|m|^2` and `R(q) m`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ConstantTorque<T>(pub [T; 3]);
@@ -89,8 +92,15 @@ impl<T: Real> Torque<T> for ConstantTorque<T> {
     fn torque(&self, _t: T, _q: &[T; 4]) -> [T; 3] {
         self.0
     }
+    fn potential(&self, _t: T, _q: &[T; 4]) -> Option<T> {
+        self.is_zero().then_some(T::ZERO)
+    }
     fn depends_on_attitude(&self) -> bool {
         false
+    }
+    fn is_zero(&self) -> bool {
+        let [a, b, c] = self.0;
+        a == T::ZERO && b == T::ZERO && c == T::ZERO
     }
 }
 
@@ -186,7 +196,14 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// `K = mu / R^3 = N^2` for a Keplerian circular orbit; Hughes, Spacecraft Attitude Dynamics,
 /// §8.2). The orbit is in the spatial x–y plane. One `sin`/`cos` pair per evaluation, by the
 /// crate's own reduction and polynomials (absolute error at most `1.5 eps` for `|N t|` up to
-/// 6000 rad in f32, 64 days of a 90-minute orbit, and `1e6` in f64; libm's beyond).
+/// 6000 rad in f32, 64 days of a 90-minute orbit, and `1e6` in f64; libm's beyond). That
+/// bound is for the argument as formed: `N t` carries the rounding of `t` itself, an ulp of
+/// which is 0.5 s at 64 days in f32 (`t = 5.5e6 s`), so the nadir direction is then good to
+/// `N ulp(t)`, about `5e-4` rad (the torque measured `7e-4` relative off its f64 value there,
+/// `1.3e-4` at `1e6 s`). A long f32 mission keeps `t` small: re-base it with
+/// [`crate::Forced::set_time`] once per orbit (the torque is periodic in `t` with period
+/// `2 pi / N`), or runs the clock in f64. `inertia` must be the integrated body's principal
+/// moments; it is not checked against the integrator's body.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GravityGradient<T> {
@@ -242,7 +259,10 @@ impl<T: Real, F: Fn(T, &[T; 4]) -> [T; 3]> Torque<T> for FnTorque<F> {
     }
 }
 
-/// The sum of two models (nest pairs for more).
+/// The sum of two models (nest pairs for more). Its potential is the sum of the parts'; `None`
+/// (no total energy) when either part has none (a zero part has potential zero: a
+/// [`ConstantTorque`] of zero added to a gravity gradient keeps the total energy). It is zero,
+/// depends on the attitude and has a turn rate when both parts are, either does, and both have.
 impl<T: Real, A: Torque<T>, B: Torque<T>> Torque<T> for (A, B) {
     fn torque(&self, t: T, q: &[T; 4]) -> [T; 3] {
         let [a1, a2, a3] = self.0.torque(t, q);

@@ -998,3 +998,44 @@ fn f32_gyrostat_keeps_its_spatial_momentum() {
         }
     }
 }
+
+/// A zero constant torque is no torque: a sum with it keeps the other part's total energy (the
+/// firmware's truth model, a gravity gradient plus a controller's torque, reported none while
+/// the controller was off: found in review), and a gyrostat under it takes the steps it takes
+/// under `NoTorque`, bit for bit (its holds of `|m|^2` and `R(q) m` included). A non-zero one
+/// has no potential.
+#[test]
+fn a_zero_constant_torque_is_no_torque() {
+    let inertia = [1.2, 1.5, 1.9];
+    let body = Body::<f64>::from_inertia(inertia).unwrap();
+    let gg = GravityGradient {
+        k: 1.0,
+        n: 1.0,
+        inertia,
+    };
+    let q = [0.9, 0.1, -0.3, 0.2].map(|x: f64| x / 0.9539392014169457);
+    let sum = (gg, ConstantTorque([0.0; 3]));
+    assert_eq!(sum.potential(0.3, &q), gg.potential(0.3, &q));
+    assert!(sum.potential(0.3, &q).is_some());
+    assert_eq!(
+        (gg, ConstantTorque([1e-9, 0.0, 0.0])).potential(0.3, &q),
+        None
+    );
+    assert!(Torque::<f64>::is_zero(&ConstantTorque([0.0; 3])));
+    assert!(!Torque::<f64>::is_zero(&ConstantTorque([
+        0.0, -1e-300, 0.0
+    ])));
+    let mut a = Forced::new(Mv::new(body, 0.01), ConstantTorque([0.0; 3]));
+    let mut b = Forced::new(Mv::new(body, 0.01), NoTorque);
+    a.set_rotor([0.2, -0.1, 0.3]).unwrap();
+    b.set_rotor([0.2, -0.1, 0.3]).unwrap();
+    let (mut sa, mut sb) = (
+        State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]),
+        State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]),
+    );
+    for _ in 0..100 {
+        a.step_state(&mut sa).unwrap();
+        b.step_state(&mut sb).unwrap();
+        assert_eq!(sa, sb);
+    }
+}
