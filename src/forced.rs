@@ -46,7 +46,9 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, compose_attitude, turn_in_space, Integrator, State,
+};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
 use crate::torque::Torque;
@@ -244,15 +246,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
             sp.q = q_out;
             return q_out;
         }
-        let half = q_out.rotate(m_out).cross(sp.pi).scale(c::<T>(0.5));
-        // (0, half) (x) q
-        let turned = Quat {
-            w: q_out.w - half.dot(q_out.vector()),
-            x: q_out.x + (half.x * q_out.w + (half.y * q_out.z - half.z * q_out.y)),
-            y: q_out.y + (half.y * q_out.w + (half.z * q_out.x - half.x * q_out.z)),
-            z: q_out.z + (half.z * q_out.w + (half.x * q_out.y - half.y * q_out.x)),
-        };
-        let held = if turned.is_finite() { turned } else { q_out };
+        let held = turn_in_space(q_out, q_out.rotate(m_out).cross(sp.pi).scale(c::<T>(0.5)));
         sp.q = held;
         held
     }

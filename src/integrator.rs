@@ -153,6 +153,25 @@ pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>),
     Ok((m, q))
 }
 
+/// `q` turned in space by the small angle `2 half` to first order: `q + (0, half) (x) q`
+/// (exact to `O(|half|^2)`; no square root). The holds of `R(q) m` ([`crate::Mv`]'s and a
+/// gyrostat's forced step) turn the attitude back onto the trajectory's spatial momentum with
+/// it, by `half = (pi x pi0 / |pi0|^2) / 2`. A non-finite result returns `q` unchanged.
+#[inline(always)]
+pub(crate) fn turn_in_space<T: Real>(q: Quat<T>, half: Vec3<T>) -> Quat<T> {
+    let turned = Quat {
+        w: q.w - half.dot(q.vector()),
+        x: q.x + (half.x * q.w + (half.y * q.z - half.z * q.y)),
+        y: q.y + (half.y * q.w + (half.z * q.x - half.x * q.z)),
+        z: q.z + (half.z * q.w + (half.x * q.y - half.y * q.x)),
+    };
+    if turned.is_finite() {
+        turned
+    } else {
+        q
+    }
+}
+
 /// `q (x) dq` for a (nearly) unit `q` and a unit increment `dq`, with one rounding in the
 /// directions that turn the attitude: written as `q + (q (x) (dq - 1) + nu q)`, where
 /// `q (x) (dq - 1)` is small (relative rounding only) and `nu = (1 - |q (x) dq|^2) / 2` pulls

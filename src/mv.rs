@@ -44,8 +44,8 @@ use crate::body::Body;
 use crate::cubic::quartic_largest_root;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, compose_unrenormalised, write_state_stepped,
-    Integrator, State,
+    checked_momentum, checked_state, compose_attitude, compose_unrenormalised, turn_in_space,
+    write_state_stepped, Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv_frozen::FrozenMap;
@@ -578,15 +578,7 @@ impl<T: Real> Mv<T> {
             sp.last_q = q_next;
             return q_next;
         }
-        let half = pi.cross(sp.pi).scale(c::<T>(0.5));
-        // (0, half) (x) q'
-        let turned = Quat {
-            w: q_next.w - half.dot(q_next.vector()),
-            x: q_next.x + (half.x * q_next.w + (half.y * q_next.z - half.z * q_next.y)),
-            y: q_next.y + (half.y * q_next.w + (half.z * q_next.x - half.x * q_next.z)),
-            z: q_next.z + (half.z * q_next.w + (half.x * q_next.y - half.y * q_next.x)),
-        };
-        let held = if turned.is_finite() { turned } else { q_next };
+        let held = turn_in_space(q_next, pi.cross(sp.pi).scale(c::<T>(0.5)));
         sp.last_q = held;
         held
     }
