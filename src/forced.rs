@@ -328,6 +328,17 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         Ok((r, w))
     }
 
+    /// Forgets the per-trajectory data ([`Integrator::reset`]): the cached end torque, the
+    /// kicks' carried rounding and the holds' references (`|m|^2`, `R(q) m` and the step
+    /// count to the next hold), so a reset integrator steps as a fresh one with the same
+    /// time, torque and rotor (`step_partial` relies on it).
+    pub(crate) fn forget(&mut self) {
+        self.last = None;
+        self.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        self.casimir = None;
+        self.spatial = None;
+    }
+
     /// The torque at `(t, q)`, reusing the last step's end evaluation when it is the same.
     #[inline]
     pub(crate) fn torque_at(&self, t: T, q: Quat<T>) -> Result<Vec3<T>, StepError> {
@@ -613,7 +624,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// # Errors
     ///
     /// `NonFinite` for a non-finite state or torque, and the drift's errors; the state and the
-    /// time are then left as they were.
+    /// time are then left as they were. While the rotor's turn is refused at this `h`
+    /// ([`Forced::set_rotor`]) a finite state gets `StepTooLarge`, whatever the torques.
     pub fn step_state_with(
         &mut self,
         s: &mut State<T>,
@@ -735,14 +747,14 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         self.drift.body()
     }
 
-    /// Forgets the drift's per-trajectory data, the cached end torque and the carried part of
-    /// the kicks that rounding lost (sub-ulp impulse, see [`Forced`]): a loop that resets every
+    /// Forgets the drift's per-trajectory data, the cached end torque, the gyrostat's hold
+    /// references and the carried part of the kicks that rounding lost (sub-ulp impulse, see
+    /// [`Forced`]): a loop that resets every
     /// step loses small torques' sub-ulp part again (measured in review: `2e-4 N m` on a sphere
     /// in f32 at 200 Hz, 4.6 % of the impulse over `10^5` steps). Keeps the time, the torque
     /// model, the rotor and the step size.
     fn reset(&mut self) {
         self.drift.reset();
-        self.forcing.last = None;
-        self.forcing.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        self.forcing.forget();
     }
 }

@@ -506,9 +506,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         if self.forcing.torque.depends_on_attitude() {
             return Err(StepError::NeedsAttitude);
         }
-        self.turn_check?;
         let id = [T::ONE, T::ZERO, T::ZERO, T::ZERO];
         let v0 = checked_momentum(m)?;
+        self.turn_check?;
         let mut clock = self.forcing.clock;
         let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
@@ -554,8 +554,8 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
-        self.turn_check?;
         let (m0, q0) = checked_state(s)?;
+        self.turn_check?;
         let mut clock = self.forcing.clock;
         let end = self.forcing.clock_after(self.h)?;
         let last = self.pattern.len() - 1;
@@ -625,8 +625,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         for d in self.stages.iter_mut() {
             d.reset();
         }
-        self.forcing.last = None;
-        self.forcing.lost = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        self.forcing.forget();
     }
 }
 

@@ -11,7 +11,8 @@
 #![cfg(target_arch = "x86_64")]
 
 use rigid3::{
-    Body, ConstantTorque, Forced, Integrator, Mv, PreMv, RetimedMv, Splitting, State, StepError,
+    Body, Composed, ConstantTorque, Forced, Integrator, Mv, NoTorque, PreMv, RetimedMv, Splitting,
+    State, StepError,
 };
 
 /// The MXCSR register.
@@ -70,7 +71,7 @@ fn flagged_steps(make: Make) -> [u32; 4] {
 fn f32_steps_take_no_subnormal_operand() {
     let body = Body::<f32>::from_inertia([58.8396, 95.4957, 120.6647]).unwrap();
     let h = 0.005f32;
-    let methods: [(&str, Make); 6] = [
+    let methods: [(&str, Make); 8] = [
         ("mv", &|| Box::new(Mv::new(body, h))),
         ("pre-mv4", &|| Box::new(PreMv::new(body, h, 4).unwrap())),
         ("pre-mv10", &|| Box::new(PreMv::new(body, h, 10).unwrap())),
@@ -84,6 +85,16 @@ fn f32_steps_take_no_subnormal_operand() {
             ))
         }),
         ("splitting", &|| Box::new(Splitting::new(body, h))),
+        ("forced mv, wheels", &|| {
+            let mut f = Forced::new(Mv::new(body, h), NoTorque);
+            f.set_rotor([0.5, -0.2, 0.3]).unwrap();
+            Box::new(f)
+        }),
+        ("composed, wheels", &|| {
+            let mut c = Composed::new(Mv::new(body, h), NoTorque, 4).unwrap();
+            c.set_rotor([0.5, -0.2, 0.3]).unwrap();
+            Box::new(c)
+        }),
     ];
     let mut bad = Vec::new();
     for (name, make) in methods {

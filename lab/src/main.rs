@@ -229,7 +229,7 @@ fn main() -> ExitCode {
                     if json {
                         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
                     } else {
-                        print_report(&r, !free);
+                        print_report(&r, !free, !spec.is_free());
                     }
                     if r.error.is_some() {
                         ExitCode::FAILURE
@@ -527,15 +527,16 @@ fn run_forced<T: Real + 'static>(
     ))
 }
 
-/// The report of a run; `forced`: a run of a forced method, whose `|m|^2`, `E` and `R(q) m`
+/// The report of a run: `forced_method`, a run of a forced method (its description is the
+/// forced one); `with_forces`, a run with a torque or a rotor, whose `|m|^2`, `E` and `R(q) m`
 /// change under a torque (their largest relative change is printed, not a drift).
-fn print_report(r: &Report, forced: bool) {
-    let what = if forced {
+fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
+    let what = if forced_method {
         describe_forced(&r.method)
     } else {
         describe(&r.method)
     };
-    let change = if forced {
+    let change = if with_forces {
         "max rel change"
     } else {
         "max rel drift"
