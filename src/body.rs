@@ -17,6 +17,17 @@ pub struct Body<T> {
     mass_matrix: [T; 3],
 }
 
+/// `SubnormalMoment` for a positive moment below `T::MIN_POSITIVE` (the moments are known
+/// positive): the mass matrix and the step's products of moments underflow there.
+#[inline]
+fn refuse_subnormal<T: Real>([i1, i2, i3]: [T; 3]) -> Result<(), BodyError> {
+    if i1 < T::MIN_POSITIVE || i2 < T::MIN_POSITIVE || i3 < T::MIN_POSITIVE {
+        Err(BodyError::SubnormalMoment)
+    } else {
+        Ok(())
+    }
+}
+
 impl<T: Real> Body<T> {
     /// A body from its principal moments of inertia.
     ///
@@ -39,9 +50,7 @@ impl<T: Real> Body<T> {
         if !(i1 > T::ZERO && i2 > T::ZERO && i3 > T::ZERO) {
             return Err(BodyError::NonPositiveMoment);
         }
-        if i1 < T::MIN_POSITIVE || i2 < T::MIN_POSITIVE || i3 < T::MIN_POSITIVE {
-            return Err(BodyError::SubnormalMoment);
-        }
+        refuse_subnormal(inertia)?;
         Self::from_positive_inertia(inertia)
     }
 
@@ -93,12 +102,7 @@ impl<T: Real> Body<T> {
         if !(inertia[0].is_finite() && inertia[1].is_finite() && inertia[2].is_finite()) {
             return Err(BodyError::NonFinite);
         }
-        if inertia[0] < T::MIN_POSITIVE
-            || inertia[1] < T::MIN_POSITIVE
-            || inertia[2] < T::MIN_POSITIVE
-        {
-            return Err(BodyError::SubnormalMoment);
-        }
+        refuse_subnormal(inertia)?;
         Ok(Self {
             inertia,
             mass_matrix,

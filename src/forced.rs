@@ -531,11 +531,9 @@ pub struct Forced<T, D, F> {
     forcing: Forcing<T, F>,
     /// The rotor's half turn; an infinite quaternion when it cannot be taken at the current `h` (a
     /// change of `h` cannot be refused, so the steps are until it comes back): the drift then
-    /// refuses the turned, non-finite input, and the step reports `turn_refused` instead. No
+    /// refuses the turned, non-finite input, and the step reports why ([`Forced::refusal`]). No
     /// test on the step's path: an early return there cost the M4F 68 instructions a step.
     turn: Option<Quat<T>>,
-    /// Why the rotor's half turn cannot be taken at the current `h`.
-    turn_refused: Option<StepError>,
 }
 
 impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
@@ -546,7 +544,6 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
             drift,
             forcing: Forcing::new(torque),
             turn: None,
-            turn_refused: None,
         }
     }
 
@@ -577,28 +574,35 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     }
 
     fn set_turn(&mut self, turn: Result<Option<Quat<T>>, StepError>) {
-        (self.turn, self.turn_refused) = match turn {
-            Ok(p) => (p, None),
-            Err(e) => {
+        self.turn = match turn {
+            Ok(p) => p,
+            Err(_) => {
                 let inf = T::MAX * c::<T>(2.0);
-                (
-                    Some(Quat {
-                        w: inf,
-                        x: inf,
-                        y: inf,
-                        z: inf,
-                    }),
-                    Some(e),
-                )
+                Some(Quat {
+                    w: inf,
+                    x: inf,
+                    y: inf,
+                    z: inf,
+                })
             }
         };
     }
 
-    /// A step's error as the caller should see it: the refused rotor turn's reason when there
-    /// is one (the drift saw only the non-finite input it made), else the error itself.
+    /// A step's error as the caller should see it: while the rotor's turn is refused (the
+    /// infinite turn of [`Forced::set_turn`]; the drift saw only the non-finite input it made)
+    /// the reason [`half_turn`] gave, derived again from the step size, else the error itself.
     #[cold]
     fn refusal(&self, e: StepError) -> StepError {
-        self.turn_refused.unwrap_or(e)
+        match self.turn {
+            Some(p) if !p.is_finite() => {
+                if self.drift.step_size().is_finite() {
+                    StepError::StepTooLarge
+                } else {
+                    StepError::NonFinite
+                }
+            }
+            _ => e,
+        }
     }
 
     forcing_accessors!();
