@@ -45,8 +45,10 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::forced::{forcing_accessors, half_turn, kick, unrotate, Forcing};
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::forced::{
+    carries_rounding, forcing_accessors, half_turn, kick, turn_momentum, turn_state, Forcing,
+};
+use crate::integrator::{checked_momentum, checked_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
 use crate::torque::Torque;
@@ -281,7 +283,8 @@ fn stage<'a, T: Copy, D>(
 /// drifts (composition 4, 6; Nyström 4, 6), one torque evaluation per drift plus the start
 /// one (with attitude, [`Integrator::step_state`] reuses the last step's end torque instead) and
 /// one kick more than drifts (15 flops each, their rounding
-/// carried as in [`crate::Forced`]). Conserves what [`crate::Forced`] conserves and, for a
+/// carried as in [`crate::Forced`], and so are the drifts' and the rotor turns' rounding of
+/// the state: [`crate::Forced`]'s error model). Conserves what [`crate::Forced`] conserves and, for a
 /// potential torque and a symplectic drift, is symplectic. Errors at `T = 10` on the forced
 /// scenes are in the README's work-precision tables.
 ///
@@ -517,7 +520,15 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         // (no scheme here has a gradient term on its first kick; this keeps one that did)
         let eps = self.grad_len[0];
         let first = kick_torque(&self.forcing.torque, clock.t, qid, tau, self.inv_i, eps)?;
-        let (mut v, mut lost) = kick(v0, first.scale(self.kick_len[0]).add(self.forcing.lost));
+        let lost0 = Vec3::from_array(self.forcing.lost.m);
+        let (mut v, mut lost) = kick(v0, first.scale(self.kick_len[0]).add(lost0));
+        // the free body (no torque, no rotor) is left to the drift's own holds; f64 carries
+        // nothing (crate::forced::carries_rounding)
+        let carry =
+            carries_rounding::<T>() && (self.turns[0].is_some() || !self.forcing.torque.is_zero());
+        // the turns' and the drifts' roundings join the carry after the last kick, off the
+        // step's critical path (crate::forced's kdk)
+        let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
         for (k, ((&i, &b), &g)) in self
             .pattern
             .iter()
@@ -527,13 +538,16 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
             if let Some(p) = turn {
-                v = unrotate(p, v);
+                (v, pending) = turn_momentum(p, v, pending, carry);
             }
             let mut arr = v.to_array();
-            d.step(&mut arr)?;
+            let mut dropped = pending.to_array();
+            // the free body is left to the drift's own holds (crate::forced's kdk)
+            d.step_carrying(&mut arr, &mut dropped, carry)?;
+            pending = Vec3::from_array(dropped);
             v = Vec3::from_array(arr);
             if let Some(p) = turn {
-                v = unrotate(p, v);
+                (v, pending) = turn_momentum(p, v, pending, carry);
             }
             // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
             clock = if k == last { end } else { clock.after(a) };
@@ -547,7 +561,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         if self.turns[0].is_some() {
             v = self.forcing.hold_casimir(v0, v);
         }
-        self.forcing.lost = lost;
+        self.forcing.lost.m = if carry { lost.add(pending) } else { lost }.to_array();
         *m = v.to_array();
         self.forcing.clock = clock;
         Ok(())
@@ -562,8 +576,13 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let mut tau = self.forcing.torque_at(clock.t, q0)?;
         let eps = self.grad_len[0];
         let first = kick_torque(&self.forcing.torque, clock.t, q0, tau, self.inv_i, eps)?;
-        let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(self.forcing.lost));
-        let mut q = q0;
+        let lost0 = Vec3::from_array(self.forcing.lost.m);
+        let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(lost0));
+        let (mut q, mut lost_q) = (q0, Quat::from_array(self.forcing.lost.q));
+        let carry =
+            carries_rounding::<T>() && (self.turns[0].is_some() || !self.forcing.torque.is_zero());
+        // the turns' and the drifts' roundings join the carry after the last kick, as in `step`
+        let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
         for (k, ((&i, &b), &g)) in self
             .pattern
             .iter()
@@ -573,17 +592,18 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
             if let Some(p) = turn {
-                m = unrotate(p, m);
-                q = compose_attitude(q, p);
+                ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
             }
             // a non-finite kick makes the drift's input non-finite, and the drift refuses it
             let mut st = State::new(m.to_array(), q.to_array());
-            d.step_state(&mut st)?;
+            let mut dropped = State::new(pending.to_array(), lost_q.to_array());
+            // the free body is left to the drift's own holds (crate::forced's kdk)
+            d.step_state_carrying(&mut st, &mut dropped, carry)?;
+            (pending, lost_q) = (Vec3::from_array(dropped.m), Quat::from_array(dropped.q));
             m = Vec3::from_array(st.m);
             q = Quat::from_array(st.q);
             if let Some(p) = turn {
-                m = unrotate(p, m);
-                q = compose_attitude(q, p);
+                ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
             }
             // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
             clock = if k == last { end } else { clock.after(a) };
@@ -598,6 +618,8 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             m = self.forcing.hold_casimir(m0, m);
             q = self.forcing.hold_spatial(m0, q0, m, q);
         }
+        let lost = if carry { lost.add(pending) } else { lost };
+        let lost = State::new(lost.to_array(), lost_q.to_array());
         self.forcing.commit(s, m, q, clock, lost, tau);
         Ok(())
     }

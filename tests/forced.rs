@@ -449,8 +449,16 @@ fn f32_small_torques_are_applied_exactly_over_many_steps() {
     ] {
         let e = worst_ulps(got, t);
         // |m| ~ 10 has ulps of 9.5e-7; the exact value itself is rounded, and the drift
-        // rounds each step: a few ulps, not the 1e5 the uncompensated kicks lost
-        assert!(e <= 4.0, "{name}: {e:.1} ulps from the exact momentum");
+        // rounds each step: a few ulps, not the 1e5 the uncompensated kicks lost. The
+        // composition's five drifts a step each compute a sphere's zero increment as
+        // round-off of `eps h |Omega| |m|` (about 1e-4 ulp), which the carry of the drift's
+        // rounding (crate::forced) now keeps instead of rounding away: 13 ulps in 1e5 steps
+        let bound = if name.starts_with("Composed") {
+            16.0
+        } else {
+            4.0
+        };
+        assert!(e <= bound, "{name}: {e:.1} ulps from the exact momentum");
     }
 }
 
@@ -1092,5 +1100,74 @@ fn step_partial_of_a_gyrostat_is_a_fresh_step() {
         }
         f.step_state(&mut sf).unwrap();
         c.step_state(&mut sc).unwrap();
+    }
+}
+
+/// f32 under a torque against the same method in f64 (the higher precision as the oracle):
+/// a spacecraft-like body at 200 Hz under the gravity gradient of a 95-minute orbit, and
+/// under a damping controller's body torque given each step, each with and without wheels.
+/// Nothing conserved is held under a torque, so only the carried rounding of the state
+/// (crate::forced: the kicks', the rotor turns' and the drift's, momentum and attitude)
+/// keeps f32 from random-walking by an ulp a step: without it the attitude was 5.9e-4 rad
+/// off f64's after 2e5 steps in the first scene (2e-4 to 1.2e-3 rad after 1e5 steps over the
+/// four; 5e-3 to 5e-2 after 1e6, up to 3 rad after 1e7); with it at most 9.0e-7.
+#[test]
+fn f32_under_a_torque_follows_f64() {
+    fn angle(a: [f32; 4], b: [f64; 4]) -> f64 {
+        let d: f64 = (0..4).map(|i| a[i] as f64 * b[i]).sum::<f64>().abs();
+        let n: f64 = a.iter().map(|x| (*x as f64).powi(2)).sum::<f64>().sqrt();
+        2.0 * (d / n).min(1.0).acos()
+    }
+    fn scene(wheels: bool, controller: bool) -> (f64, f64) {
+        let inertia = [120.0, 100.0, 80.0];
+        let n = 1.1e-3;
+        let gg32 = GravityGradient {
+            k: (n * n) as f32,
+            n: n as f32,
+            inertia: inertia.map(|x| x as f32),
+        };
+        let gg64 = GravityGradient {
+            k: n * n,
+            n,
+            inertia,
+        };
+        let b32 = Body::<f32>::from_inertia(inertia.map(|x| x as f32)).unwrap();
+        let b64 = Body::<f64>::from_inertia(inertia).unwrap();
+        let mut a = Forced::new(Mv::new(b32, 0.005f32), gg32);
+        let mut b = Forced::new(Mv::new(b64, 0.005), gg64);
+        if wheels {
+            a.set_rotor([0.1f32, -0.05, 0.2]).unwrap();
+            b.set_rotor([0.1, -0.05, 0.2]).unwrap();
+        }
+        let mut s32 = State::new([1.2f32, -0.8, 0.9], [1.0f32, 0.0, 0.0, 0.0]);
+        let mut s64 = State::new([1.2, -0.8, 0.9], [1.0, 0.0, 0.0, 0.0]);
+        let (mut worst_q, mut worst_m) = (0.0f64, 0.0f64);
+        for k in 1..=200_000 {
+            if controller {
+                // damping of the transverse rates and a small spin-up torque (N m)
+                let ctl = |m: [f64; 3]| [-1e-3 * m[0] / 120.0, -1e-3 * m[1] / 100.0, 1e-5];
+                let t32 = ctl(s32.m.map(f64::from)).map(|x| x as f32);
+                let t64 = ctl(s64.m);
+                a.step_state_with(&mut s32, t32, t32).unwrap();
+                b.step_state_with(&mut s64, t64, t64).unwrap();
+            } else {
+                a.step_state(&mut s32).unwrap();
+                b.step_state(&mut s64).unwrap();
+            }
+            if k % 100 == 0 {
+                worst_q = worst_q.max(angle(s32.q, s64.q));
+                let m = s32.m.map(f64::from);
+                worst_m = worst_m.max(dist(m, s64.m) / dist(s64.m, [0.0; 3]));
+            }
+        }
+        (worst_q, worst_m)
+    }
+    for (wheels, controller) in [(false, false), (true, false), (false, true), (true, true)] {
+        let (q, m) = scene(wheels, controller);
+        println!("f32 vs f64, 2e5 steps, wheels {wheels}, controller {controller}: attitude {q:.2e} rad, momentum {m:.2e}");
+        assert!(
+            q <= 3e-6 && m <= 3e-6,
+            "wheels {wheels}, controller {controller}: {q:e} rad, {m:e}"
+        );
     }
 }
