@@ -157,16 +157,13 @@ pub(crate) fn turn_state<T: Real>(
     (pending, lost_q): Pair<T>,
     carry: bool,
 ) -> (Pair<T>, Pair<T>) {
-    if carry {
-        let (m, pending) = unrotate(p, m, pending);
-        let (q, lost_q) = compose_attitude_carried(q, p, lost_q, true);
-        ((m, q), (pending, lost_q))
+    let (m, pending) = turn_momentum(p, m, pending, carry);
+    let (q, lost_q) = if carry {
+        compose_attitude_carried(q, p, lost_q, true)
     } else {
-        (
-            (p.inverse_rotate(m), compose_attitude(q, p)),
-            (pending, lost_q),
-        )
-    }
+        (compose_attitude(q, p), lost_q)
+    };
+    ((m, q), (pending, lost_q))
 }
 
 /// [`turn_state`] for the momentum alone.
@@ -238,6 +235,14 @@ pub(crate) struct Forcing<T, F> {
 }
 
 impl<T: Real, F: Torque<T>> Forcing<T, F> {
+    /// Whether a step carries the state's rounding ([`Forced`]'s error model): at a precision
+    /// that needs it ([`carries_rounding`]) and when a torque acts or the rotor turns the
+    /// state; a free body is left to the drift's own free-running step and holds.
+    #[inline(always)]
+    pub(crate) fn carries(&self, rotor_turns: bool) -> bool {
+        carries_rounding::<T>() && (rotor_turns || !self.torque.is_zero())
+    }
+
     /// Without torque, scales `out` back to the Casimir of the trajectory `m_in` is on, to
     /// first order and with no division: the rotor's turns round `m` by an ulp each, and over
     /// `10^5` steps that random walk reached `7.5e-14` (the free `Mv` holds `|m|^2` the same
@@ -504,7 +509,6 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
     carry: bool,
 ) -> Result<Kicked<T>, StepError> {
     let half = h * c::<T>(0.5);
-    let carry = carry && carries_rounding::<T>();
     // a non-finite m, q or tau0 makes the drift's input non-finite, and the drift refuses it
     // (NonFinite): no checks of their own on the loop's path
     let (mut m, lost0) = kick(m, tau0.scale(half).add(Vec3::from_array(lost.m)));
@@ -563,7 +567,6 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
     if !(tau0.is_finite() && tau1.is_finite()) {
         return Err(StepError::NonFinite);
     }
-    let carry = carry && carries_rounding::<T>();
     let (mut m, lost0) = kick(m, tau0.scale(half).add(*lost));
     // the turns' and the drift's roundings join the carry after the end kick (as in kdk)
     let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
@@ -777,7 +780,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
             tau0,
             &mut self.forcing.lost,
             // torques given by the caller are taken to act (a free body steps its drift)
-            true,
+            carries_rounding::<T>(),
         )
         .map_err(|e| self.refusal(e))?;
         s.m = m.to_array();
@@ -801,7 +804,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         let t0 = self.forcing.clock.t;
         let clock = self.forcing.clock_after(h)?;
         let mut lost = Vec3::from_array(self.forcing.lost.m);
-        let carry = turn.is_some() || !self.forcing.torque.is_zero();
+        let carry = self.forcing.carries(turn.is_some());
         let next = kdk_momentum(
             &mut self.drift,
             &self.forcing.torque,
@@ -842,7 +845,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
             q0,
             tau0,
             &mut lost,
-            turn.is_some() || !self.forcing.torque.is_zero(),
+            self.forcing.carries(turn.is_some()),
         )
         .map_err(|e| self.refusal(e))?;
         let (m, q) = if turn.is_some() {

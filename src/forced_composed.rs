@@ -45,9 +45,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::forced::{
-    carries_rounding, forcing_accessors, half_turn, kick, turn_momentum, turn_state, Forcing,
-};
+use crate::forced::{forcing_accessors, half_turn, kick, turn_momentum, turn_state, Forcing};
 use crate::integrator::{checked_momentum, checked_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -524,8 +522,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let (mut v, mut lost) = kick(v0, first.scale(self.kick_len[0]).add(lost0));
         // the free body (no torque, no rotor) is left to the drift's own holds; f64 carries
         // nothing (crate::forced::carries_rounding)
-        let carry =
-            carries_rounding::<T>() && (self.turns[0].is_some() || !self.forcing.torque.is_zero());
+        let carry = self.forcing.carries(self.turns[0].is_some());
         // the turns' and the drifts' roundings join the carry after the last kick, off the
         // step's critical path (crate::forced's kdk)
         let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
@@ -579,8 +576,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let lost0 = Vec3::from_array(self.forcing.lost.m);
         let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(lost0));
         let (mut q, mut lost_q) = (q0, Quat::from_array(self.forcing.lost.q));
-        let carry =
-            carries_rounding::<T>() && (self.turns[0].is_some() || !self.forcing.torque.is_zero());
+        let carry = self.forcing.carries(self.turns[0].is_some());
         // the turns' and the drifts' roundings join the carry after the last kick, as in `step`
         let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
         for (k, ((&i, &b), &g)) in self

@@ -176,6 +176,17 @@ struct Advanced<T> {
     applied: Vec3<T>,
 }
 
+impl<T: Real> Advanced<T> {
+    /// `lost + (applied - (next - m))`: what the rounding of `m + applied` dropped, added to
+    /// the carry `lost` (Fast2Sum, as crate::forced's kicks).
+    #[inline(always)]
+    fn carry_into(&self, m: Vec3<T>, lost: [T; 3]) -> [T; 3] {
+        Vec3::from_array(lost)
+            .add(self.applied.sub(self.next.sub(m)))
+            .to_array()
+    }
+}
+
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
 ///
 /// Solves `h hat(m_k) = X J - J X^T` for `X` in SO(3) with `X J` having its spectrum in
@@ -951,7 +962,10 @@ impl<T: Real> Mv<T> {
         let (p, small) = self.rotation_between(v, next, step.increment)?;
         // an attitude that goes on from the last step's is renormalised every HOLD_PERIOD-th
         // step, as in step_state (every step cost the soft-float build 1776 instructions; on
-        // the M4F the comparison costs about what it saves); nothing is held
+        // the M4F the comparison costs about what it saves); nothing is held. Asked after
+        // `advance`, which step_state avoids: harmless here, as its outside-change path keeps
+        // the anchor's spatial part (`retake`) or makes a new anchor without one (false, as
+        // before the step); asked before, the M4F step took 5 instructions more
         let ours = self.follows_state(v, q).0;
         let (held, lost_q) =
             self.turn_attitude((ours, false), q, next, p, Quat::from_array(lost.q), true);
@@ -962,8 +976,7 @@ impl<T: Real> Mv<T> {
         } else {
             write_state_stepped(s, next, held)?;
         }
-        let dropped = step.applied.sub(next.sub(v));
-        lost.m = Vec3::from_array(lost.m).add(dropped).to_array();
+        lost.m = step.carry_into(v, lost.m);
         lost.q = lost_q.to_array();
         self.count_attitude_step();
         Ok(())
@@ -1362,8 +1375,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
         let follows = !carry && matches!(&self.anchor, Some(a) if a.last == v);
         let step = self.advance(v, follows)?;
         if carry {
-            let dropped = step.applied.sub(step.next.sub(v));
-            *lost = Vec3::from_array(*lost).add(dropped).to_array();
+            *lost = step.carry_into(v, *lost);
         }
         *m = step.next.to_array();
         Ok(())
