@@ -4,7 +4,9 @@
 //! the table with ratios to the 3-rotation splitting.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use rigid3::{Body, Forced, Gravity, Integrator, Mv, NoTorque, Real, State};
+use rigid3::{
+    Body, ConstantTorque, Forced, Gravity, GravityGradient, Integrator, Mv, NoTorque, Real, State,
+};
 
 #[path = "../tests/common/cases.rs"]
 mod cases;
@@ -125,6 +127,34 @@ fn bench_forced<T: Real + 'static>(c: &mut Criterion, ty: &str) {
     group.bench_function("mv-rotor", |b| {
         b.iter(|| {
             let _ = wheels.step_state(black_box(&mut s));
+        })
+    });
+    // a controller's command added to the gravity gradient: step_state_plus (the model once a
+    // step) against the summed model changed through torque_mut (its cache dropped: twice)
+    let gg = GravityGradient {
+        k: T::from_f64(0.01),
+        n: T::from_f64(0.1),
+        inertia: body.inertia(),
+    };
+    let mut plus = Forced::new(Mv::new(body, h), gg);
+    let mut s = s0;
+    let mut k = 0u32;
+    group.bench_function("mv-gg-plus-command", |b| {
+        b.iter(|| {
+            k = k.wrapping_add(1);
+            let t = if (k / 64).is_multiple_of(2) { tau } else { neg };
+            let _ = plus.step_state_plus(black_box(&mut s), t, t);
+        })
+    });
+    let mut summed = Forced::new(Mv::new(body, h), (gg, ConstantTorque(tau)));
+    let mut s = s0;
+    let mut k = 0u32;
+    group.bench_function("mv-gg-command-torque-mut", |b| {
+        b.iter(|| {
+            k = k.wrapping_add(1);
+            let t = if (k / 64).is_multiple_of(2) { tau } else { neg };
+            summed.torque_mut().1 = ConstantTorque(t);
+            let _ = summed.step_state(black_box(&mut s));
         })
     });
     let mut kicked = Mv::new(body, h);

@@ -120,7 +120,11 @@ pub trait Integrator<T> {
 
     /// Changes the step size. Integrators that keep per-trajectory data decide what survives
     /// (`Mv` keeps its tracked root across small changes); nothing is checked here: an invalid
-    /// `h` is refused by the next step.
+    /// `h` (not finite, or past the method's limit) is refused by the next step (`Err`, state
+    /// untouched), and by every step after it until a valid `h` is set. A negative `h` steps
+    /// backwards in time and `h = 0` leaves the state as it is: a loop that sets a measured
+    /// `dt` each tick should refuse a non-positive or implausible `dt` itself (a timer that
+    /// wrapped) and keep the last good one.
     fn set_step_size(&mut self, h: T);
 
     /// The body being integrated (for [`crate::PreMv`] the true body, not the modified one).

@@ -12,6 +12,10 @@
 //! - Energy `E = 1/2 sum m_i^2 / I_i` and Casimir `|m|^2` are conserved by the flow, and so is
 //!   the spatial momentum `R(q) m`.
 //! - `q = (w, x, y, z)` maps body to space: `x_space = R(q) x_body`.
+//! - The body frame is the principal frame of the [`Body`]: `m`, `Omega`, torques and rotor
+//!   momentum are given along its principal axes. For a body built from an inertia tensor,
+//!   [`Body::from_inertia_tensor`] returns that frame, and [`Frame`] turns sensor-frame vectors
+//!   (gyro rates, wheel axes, commanded torques) into it and attitudes back.
 //!
 //! ## Methods
 //!
@@ -34,14 +38,14 @@
 //! The formulas and conventions behind these docs are in `docs/MATH.md` (shipped with the
 //! crate; cited as "docs/MATH.md §n"). Costs (counted flops, host time, Cortex-M4F
 //! instructions, code size, stack) are measured, with the commands that measure them, in the
-//! README's tables: `Mv` takes 78 counted flops per free-running momentum step and 152 with
+//! README's tables: `Mv` takes 78 counted flops per free-running momentum step and 153 with
 //! attitude (talk's case, `h = 0.1`; about 210 and 270 on a step after an outside change).
 //!
 //! ## Forced motion: torques, reaction wheels, potentials
 //!
 //! | type | what | order |
 //! |---|---|---|
-//! | [`Forced`] | kick–turn–drift–turn–kick around any free integrator: a torque model of the attitude and time ([`torque`]: constant, periodic, gravity, gravity gradient, closures) or a torque given per step (`step_state_with`), and rotor momentum in the body frame (`set_rotor`, any tick). With `Mv` it is the Lie group variational integrator, explicit | 2 |
+//! | [`Forced`] | kick–turn–drift–turn–kick around any free integrator: a torque model of the attitude and time ([`torque`]: constant, periodic, gravity, gravity gradient, closures) or a torque given per step (`step_state_with`, instead of a model; `step_state_plus`, added to the model: a controller's command), and rotor momentum in the body frame (`set_rotor`, any tick). With `Mv` it is the Lie group variational integrator, explicit | 2 |
 //! | [`Composed`] | `new`: compositions of `Forced`'s step (any drift, rotor allowed); `nystrom`: Blanes–Moan Nyström splittings with a near-exact drift (`PreMv` order 10, or `Exact`), for torques without rotor, the cheapest per accuracy on the README's heavy top below `1e-6`; `force_gradient`: Chin's two-drift splitting 4A with the bracket `[B, [A, B]]` in its middle kick, the cheapest rigid3 method from `1e-4` to `1e-6` on the heavy top (level with RK4 at `1e-4`, below it at `1e-5` and `1e-6`) | 4, 6 |
 //! | [`ForcedRk4`] | classical Runge–Kutta on the full forced equations (baseline) | 4 |
 //!
@@ -55,7 +59,7 @@
 //! // a small satellite at 200 Hz in a 90-minute orbit, with three reaction wheels
 //! let body = Body::<f32>::from_inertia([60.0, 95.0, 120.0]).unwrap();
 //! let n = 0.001_163_6f32;
-//! let gg = GravityGradient { k: n * n, n, inertia: body.inertia() };
+//! let gg = GravityGradient::circular(&body, n); // K = N^2, the body's principal moments
 //! let mut f = Forced::new(Mv::new(body, 0.005), gg);
 //! let mut s = State::new([0.5, -0.3, 1.2], [1.0, 0.0, 0.0, 0.0]);
 //! let mut elapsed = 0.0f64;
@@ -68,8 +72,9 @@
 //! }
 //! // the clock (a compensated sum) is the sum of the steps taken, for the torque's time
 //! assert!((f64::from(f.time()) - elapsed).abs() < 1e-6);
-//! // a controller's torque given at both ends of a step (zero-order hold: the same twice)
-//! f.step_state_with(&mut s, [1e-3, 0.0, 0.0], [1e-3, 0.0, 0.0]).unwrap();
+//! // a controller's command added to the gravity gradient, given at both ends of the step
+//! // (zero-order hold: the same twice); step_state_with would take it instead of the model
+//! f.step_state_plus(&mut s, [1e-3, 0.0, 0.0], [1e-3, 0.0, 0.0]).unwrap();
 //! ```
 //!
 //! ## For analysts and filters

@@ -98,6 +98,44 @@ impl<T: Real> Quaternion<T> {
         Self::new(half_angle.cos(), v[0] * k, v[1] * k, v[2] * k)
     }
 
+    /// `2 log(q)`: the rotation vector of the unit quaternion `q` (angle in `[0, pi]` about
+    /// the rotation's axis), the inverse of [`Quaternion::from_rotation_vector`] for both `q`
+    /// and `-q` (the same rotation: the shorter turn is returned). The angle is
+    /// `2 atan2(|u|, |w|)`, `u = (x, y, z)`, accurate to a few ulps at every angle (where
+    /// `2 acos(w)` loses half the digits of a small angle), and the axis `u / |u|`; a
+    /// quaternion that is not unit is taken as its direction. The zero vector for `q = +-1`;
+    /// a non-finite `q` gives a non-finite vector.
+    #[must_use]
+    pub fn to_rotation_vector(self) -> [T; 3] {
+        let q = if self.w < T::ZERO {
+            Self::new(-self.w, -self.x, -self.y, -self.z)
+        } else {
+            self
+        };
+        let n = (q.x * q.x + q.y * q.y + q.z * q.z).sqrt();
+        let angle = c::<T>(2.0) * n.atan2(q.w);
+        // zero turn: the vector is zero whatever the factor (no division by zero)
+        let k = if n > T::ZERO { angle / n } else { T::ZERO };
+        // a non-finite q carries its non-finite part through (never a finite vector)
+        let k = if q.w.is_finite() && n.is_finite() {
+            k
+        } else {
+            q.w.abs() + n
+        };
+        [q.x * k, q.y * k, q.z * k]
+    }
+
+    /// The angle of the rotation from attitude `self` to attitude `other` (radians, in
+    /// `[0, pi]`): `|(self^* (x) other).to_rotation_vector()|`, the attitude error a test or a
+    /// filter reports. Accurate to a few ulps of the angle for unit quaternions at every
+    /// angle, small ones included; `q` and `-q` are the same attitude (angle zero).
+    #[must_use]
+    pub fn angle_to(self, other: Self) -> T {
+        let d = self.conjugate().compose(other);
+        let n = (d.x * d.x + d.y * d.y + d.z * d.z).sqrt();
+        c::<T>(2.0) * n.atan2(d.w.abs())
+    }
+
     /// The conjugate `[w, -x, -y, -z]`: the inverse rotation of a unit quaternion (space to
     /// body). Exact.
     #[must_use]

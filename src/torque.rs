@@ -203,7 +203,9 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// `1.3e-4` at `1e6 s`). A long f32 mission keeps `t` small: re-base it with
 /// [`crate::Forced::set_time`] once per orbit (the torque is periodic in `t` with period
 /// `2 pi / N`), or runs the clock in f64. `inertia` must be the integrated body's principal
-/// moments; it is not checked against the integrator's body.
+/// moments (`body.inertia()`, not the diagonal of an inertia tensor with products of
+/// inertia): [`GravityGradient::circular`] takes them from the body. It is not checked
+/// against the integrator's body.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GravityGradient<T> {
@@ -216,6 +218,17 @@ pub struct GravityGradient<T> {
 }
 
 impl<T: Real> GravityGradient<T> {
+    /// The gravity gradient of a Keplerian circular orbit of rate `n` (`K = N^2`) on `body`,
+    /// with the body's principal moments (the frame every torque of the integrator is in).
+    #[must_use]
+    pub fn circular(body: &crate::Body<T>, n: T) -> Self {
+        Self {
+            k: n * n,
+            n,
+            inertia: body.inertia(),
+        }
+    }
+
     /// `r = R(q)^T (cos N t, sin N t, 0)`.
     #[inline]
     fn nadir(&self, t: T, q: &[T; 4]) -> Vec3<T> {

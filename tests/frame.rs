@@ -62,6 +62,86 @@ fn quaternion_operations_agree_with_rotation_matrices() {
     }
 }
 
+/// `to_rotation_vector` inverts `from_rotation_vector` (recompose and compare) for `q` and
+/// `-q`, to a few ulps at every angle up to a half turn, and returns the shorter turn past it;
+/// `angle_to` is the norm of the rotation vector between two attitudes, small angles
+/// included (where `2 acos` of the dot product has half the digits: 1e-9 rad read 0 or 2.1e-8).
+#[test]
+fn rotation_vectors_recompose_and_angles_between_attitudes() {
+    let mut rng = Rng(0x0005_eed0_fa11);
+    let pi = core::f64::consts::PI;
+    for k in 0..20_000 {
+        let dir = rng.direction();
+        // angles spread over decades, up to and past the half turn
+        let angle = match k % 4 {
+            0 => rng.range(0.0, pi),
+            1 => 10f64.powf(rng.range(-12.0, 0.0)),
+            2 => pi - 10f64.powf(rng.range(-8.0, -1.0)),
+            _ => rng.range(pi, 2.0 * pi - 1e-3),
+        };
+        let v = dir.map(|x| x * angle);
+        let q = Quaternion::from_rotation_vector(v);
+        let neg = Quaternion::new(-q.w, -q.x, -q.y, -q.z);
+        // past a half turn the same rotation is the shorter turn the other way
+        let want = if angle <= pi {
+            v
+        } else {
+            dir.map(|x| x * (angle - 2.0 * pi))
+        };
+        let scale = want.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        for got in [q.to_rotation_vector(), neg.to_rotation_vector()] {
+            let err = (0..3).map(|i| (got[i] - want[i]).abs()).fold(0.0, f64::max);
+            // relative to the angle; near a half turn the axis is set by |u| = sin(a/2) ~ 1
+            // and the angle by w ~ 0: both well-conditioned
+            let far = if angle > 3.0 { 2e-15 } else { 0.0 };
+            assert!(
+                err <= 1e-15 * scale + far,
+                "{v:?}: {got:?} vs {want:?} ({err:e})"
+            );
+        }
+        // angle_to: an attitude turned by v in the body frame, from a random attitude
+        let turn = rng.range(0.0, 3.0);
+        let a = Quaternion::from_rotation_vector(rng.direction().map(|x| x * turn));
+        let b = a.compose(q);
+        let want_angle = want.iter().map(|x| x * x).sum::<f64>().sqrt();
+        // forming b rounds it by an ulp: an absolute error of about 1e-16 rad in the angle
+        // (past about 3 rad, q's own rounding at from_rotation_vector is an ulp of one)
+        let far = if angle > 3.0 { 2e-15 } else { 0.0 };
+        let got = a.angle_to(b);
+        assert!(
+            (got - want_angle).abs() <= 1e-15 + 1e-15 * want_angle + far,
+            "angle {angle:e}: {got:e} vs {want_angle:e}"
+        );
+        // from the identity nothing is rounded before: a few ulps of the angle itself
+        let got = Quaternion::IDENTITY.angle_to(q);
+        assert!(
+            (got - want_angle).abs() <= 1e-15 * want_angle + far,
+            "angle {angle:e}: {got:e} vs {want_angle:e}"
+        );
+        assert!(b.angle_to(b) <= 1e-15);
+        assert!(a.angle_to(Quaternion::new(-a.w, -a.x, -a.y, -a.z)) <= 1e-15);
+    }
+    // f32: the small-angle digits survive in single precision too
+    let a = Quaternion::<f32>::from_rotation_vector([0.3, -1.2, 0.7]);
+    for angle in [1e-6f32, 1e-4, 0.3, 3.0] {
+        let turn = Quaternion::from_rotation_vector([0.0, angle, 0.0]);
+        let got = Quaternion::IDENTITY.angle_to(turn);
+        assert!(
+            (got - angle).abs() <= 4.0 * f32::EPSILON * angle,
+            "{angle}: {got}"
+        );
+        // b rounded to f32 moves the angle by about an ulp of one (absolute)
+        let got = a.angle_to(a.compose(turn));
+        assert!(
+            (got - angle).abs() <= 4.0 * f32::EPSILON * (1.0 + angle),
+            "{angle}: {got}"
+        );
+    }
+    assert_eq!(Quaternion::<f64>::IDENTITY.to_rotation_vector(), [0.0; 3]);
+    let bad = Quaternion::new(f64::NAN, 0.0, 0.0, 0.0).to_rotation_vector();
+    assert!(bad.iter().any(|x| !x.is_finite()));
+}
+
 #[test]
 fn rotations_by_half_turns_and_small_angles() {
     // Shepperd's branches: half turns about each axis (trace = -1) and near them

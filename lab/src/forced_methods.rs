@@ -61,6 +61,25 @@ impl ForceSpec {
             .sum();
         Some(kinetic + self.torque(&body).potential(t, &q)?)
     }
+
+    /// The Jacobi integral `E_total - N e_z . R(q) m` where the potential turns about `e_z` at
+    /// the orbit rate `N` (a gravity gradient with `N != 0`, with or without gravity about
+    /// `e_z`, which that turn leaves as it is, and a rotor): conserved where the total energy
+    /// is not. `None` without such a turn or without a potential.
+    pub fn jacobi_integral(
+        &self,
+        inertia: [f64; 3],
+        t: f64,
+        m: [f64; 3],
+        q: [f64; 4],
+    ) -> Option<f64> {
+        let (_, n) = self.gravity_gradient?;
+        if n == 0.0 {
+            return None;
+        }
+        let e = self.total_energy(inertia, t, m, q)?;
+        Some(e - n * State::new(m, q).spatial_momentum()[2])
+    }
 }
 
 /// The sum of a scene's torques: gravity about a fixed point, gravity gradient, a periodic

@@ -32,14 +32,15 @@ enum Command {
         /// Initial body momentum x,y,z.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         m0: Vec<f64>,
-        /// Initial attitude w,x,y,z (body to space); without it the run is momentum-only.
+        /// Initial attitude w,x,y,z (body to space; normalised). Without it a free run is
+        /// momentum-only; a forced run always carries the attitude (the identity by default).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         q0: Option<Vec<f64>>,
-        /// Step size.
+        /// Step size (nonzero; negative runs backwards).
         #[arg(long, allow_hyphen_values = true)]
         h: f64,
-        /// Final time (rounded to a whole number of steps).
-        #[arg(long)]
+        /// Duration, at least 0 (rounded to a whole number of steps, at most 1e10 of them).
+        #[arg(long, allow_hyphen_values = true)]
         t: f64,
         /// Compute in f32 instead of f64.
         #[arg(long)]
@@ -118,7 +119,8 @@ enum Command {
         #[arg(long, default_value = "target/criterion")]
         dir: std::path::PathBuf,
     },
-    /// Host ns per step with attitude of mv, pre-mv4, pre-mv10 (and the 5-rotation splitting)
+    /// Host ns per step with attitude of mv, pre-mv4, pre-mv10, retimed-mv (and the 5-rotation
+    /// splitting)
     /// in f64 and f32 when h, m or the torque change every step: regimes fixed, jitter
     /// (set_step_size with h0 +-5%), corrected (m_i *= 1 + 1e-4 r_i), torque (m += h tau).
     /// Spacecraft of firmware/src/bin/attitude.rs, h0 = 1/200; best of 3 batches after a warm-up.
@@ -214,7 +216,14 @@ fn main() -> ExitCode {
                     return ExitCode::FAILURE;
                 }
             };
-            let steps = (t / h).abs().round() as usize;
+            let checked = check_propagate(inertia, m0, q0, h, t, f32, &spec);
+            let (q0, steps) = match checked {
+                Ok(x) => x,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
             // a free scene runs the free methods; a forced method's name without any force
             // (forced4, fg4-pre6, ...) runs it with no torque and no rotor
             let free = spec.is_free() && METHODS.contains(&method.as_str());
@@ -419,6 +428,86 @@ fn main() -> ExitCode {
     }
 }
 
+/// The most steps `propagate` takes (a larger count is a typo, not a run: 1e10 mv steps
+/// take about five minutes).
+const MAX_STEPS: f64 = 1e10;
+
+/// `propagate`'s inputs checked before anything runs: every number finite (and within f32's
+/// range with `--f32`), `h` nonzero, `t` at least zero and at most [`MAX_STEPS`] steps, `q0`
+/// nonzero (returned normalised, so the invariants are those of the attitude the run
+/// starts from). Returns `q0` and the number of steps.
+fn check_propagate(
+    inertia: [f64; 3],
+    m0: [f64; 3],
+    q0: Option<[f64; 4]>,
+    h: f64,
+    t: f64,
+    f32: bool,
+    spec: &ForceSpec,
+) -> Result<(Option<[f64; 4]>, usize), String> {
+    let fits = |x: f64| x.is_finite() && (!f32 || (x as f32).is_finite());
+    let range = if f32 { " and within f32's range" } else { "" };
+    let mut named: Vec<(&str, Vec<f64>)> = vec![
+        ("inertia", inertia.to_vec()),
+        ("m0", m0.to_vec()),
+        ("h", vec![h]),
+        ("t", vec![t]),
+    ];
+    if let Some(q) = q0 {
+        named.push(("q0", q.to_vec()));
+    }
+    if let Some(r) = spec.rotor {
+        named.push(("rotor", r.to_vec()));
+    }
+    if let Some((mg, com)) = spec.gravity {
+        named.push(("gravity", vec![mg]));
+        named.push(("com", com.to_vec()));
+    }
+    if let Some((k, n)) = spec.gravity_gradient {
+        named.push(("gravity-gradient", vec![k, n]));
+    }
+    if let Some((a, w, p)) = spec.body_torque {
+        named.push(("body-torque", a.to_vec()));
+        named.push(("torque-freq", w.to_vec()));
+        named.push(("torque-phase", p.to_vec()));
+    }
+    for (flag, values) in &named {
+        if !values.iter().all(|&x| fits(x)) {
+            return Err(format!("--{flag} must be finite{range}"));
+        }
+    }
+    if h == 0.0 || !fits(h) {
+        return Err("--h must be nonzero (a negative h runs backwards)".into());
+    }
+    if t < 0.0 {
+        return Err(
+            "--t is a duration and must be at least 0 (a negative --h runs backwards)".into(),
+        );
+    }
+    let steps = (t / h).abs().round();
+    if !(steps <= MAX_STEPS) {
+        return Err(format!(
+            "--t {t:e} at --h {h:e} is {steps:e} steps, more than {MAX_STEPS:e}: shorten --t or enlarge --h"
+        ));
+    }
+    let q0 = match q0 {
+        Some(q) => {
+            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+            if !(n > 0.0 && n.is_finite()) {
+                return Err("--q0 must be a nonzero quaternion w,x,y,z".into());
+            }
+            // a unit one to round-off is kept bit for bit
+            Some(if (n - 1.0).abs() > 4.0 * f64::EPSILON {
+                q.map(|x| x / n)
+            } else {
+                q
+            })
+        }
+        None => None,
+    };
+    Ok((q0, steps as usize))
+}
+
 fn run<T: Real + 'static>(
     method: &str,
     inertia: [f64; 3],
@@ -503,6 +592,8 @@ fn run_forced<T: Real + 'static>(
     let mut integrator = make_forced(method, body, T::from_f64(h), spec).ok_or_else(|| {
         if FORCED_METHODS.contains(&method) && needs_exact_drift(method) {
             format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
+        } else if FORCED_METHODS.contains(&method) && spec.rotor.is_some() {
+            format!("'{method}' refused the rotor: its half turn per step passes half a revolution (h |I^-1 h_r| > 8), or I^-1 h_r overflows")
         } else if FORCED_METHODS.contains(&method) {
             format!("'{method}' cannot be built for this body and step")
         } else if !METHODS.contains(&method) {
@@ -565,7 +656,17 @@ fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
         );
     }
     if let (Some(e), Some(d)) = (r.total_energy, r.total_energy_drift) {
-        println!("total E  {e:.17e}   max rel drift {d:.3e}");
+        // where the potential turns with the orbit the total energy is not conserved: the
+        // Jacobi integral is
+        let what = if r.jacobi_integral.is_some() {
+            "max rel change"
+        } else {
+            "max rel drift"
+        };
+        println!("total E  {e:.17e}   {what} {d:.3e}");
+    }
+    if let (Some(j), Some(d)) = (r.jacobi_integral, r.jacobi_integral_drift) {
+        println!("Jacobi   {j:.17e}   max rel drift {d:.3e}  (E - N e_z . R(q) m)");
     }
     if let Some(e) = &r.error {
         println!("stopped  {e}");

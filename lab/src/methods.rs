@@ -59,7 +59,7 @@ pub fn describe(name: &str) -> &'static str {
         "midpoint-fp" => "implicit midpoint rule, fixed-point iteration, order 2",
         "rk4" => "classical Runge-Kutta, order 4",
         "exact" => "exact solution (Jacobi elliptic functions, Carlson R_F/R_J), stepped by h",
-        "general" => "DMV by the general-N Cardoso–Leite solver (lab oracle, f64 only)",
+        "general" => "DMV by the general-N Cardoso–Leite solver (lab oracle; computes in f64, with --f32 its state is rounded to f32 after each step)",
         _ => "unknown",
     }
 }
@@ -69,7 +69,7 @@ pub fn describe(name: &str) -> &'static str {
 mod library;
 pub use library::{make_library, LIBRARY_METHODS};
 
-/// A boxed integrator for `name`, or `None` for an unknown name (or `general` in f32): the
+/// A boxed integrator for `name`, or `None` for an unknown name: the
 /// library's ([`make_library`]) and the lab's own `hv-dmv` and `general`.
 pub fn make<T: Real + 'static>(name: &str, body: Body<T>, h: T) -> Option<Box<dyn Integrator<T>>> {
     match name {

@@ -36,9 +36,18 @@ pub struct Report {
     /// `1/2 (m - h_r) . I^-1 (m - h_r) + V(t, q)`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub total_energy: Option<f64>,
-    /// Forced runs with a potential: max relative drift of the total energy over the run.
+    /// Forced runs with a potential: max relative drift of the total energy over the run
+    /// (a change, not a drift, where the potential turns with the orbit: see
+    /// `jacobi_integral`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub total_energy_drift: Option<f64>,
+    /// A gravity gradient whose nadir turns (`N != 0`): the final Jacobi integral
+    /// `E_total - N e_z . R(q) m`, the scene's conserved quantity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jacobi_integral: Option<f64>,
+    /// Its max relative drift over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jacobi_integral_drift: Option<f64>,
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -109,6 +118,8 @@ pub fn propagate<T: Real>(
         error: error.map(|e| e.to_string()),
         total_energy: None,
         total_energy_drift: None,
+        jacobi_integral: None,
+        jacobi_integral_drift: None,
     }
 }
 
@@ -132,10 +143,20 @@ pub fn propagate_forced<T: Real>(
             s.q.map(Real::to_f64),
         )
     };
+    let jacobi = |k: usize, s: &State<T>| {
+        spec.jacobi_integral(
+            inertia,
+            k as f64 * h,
+            s.m.map(Real::to_f64),
+            s.q.map(Real::to_f64),
+        )
+    };
     let body = *integrator.body();
     let mut report = propagate(method, integrator, &body, s0, 0, true);
     let e0 = total(0, &s0);
+    let j0 = jacobi(0, &s0);
     let mut drift = 0.0f64;
+    let mut j_drift = 0.0f64;
     // |m|^2, E and R(q) m change under a torque: their max relative change over the run (they
     // are invariants only for a rotor without torque, where this is their drift)
     let wide = |s: &State<T>| {
@@ -162,6 +183,9 @@ pub fn propagate_forced<T: Real>(
         if let (Some(e), Some(e0)) = (total(k, &s), e0) {
             drift = drift.max(rel(e, e0));
         }
+        if let (Some(j), Some(j0)) = (jacobi(k, &s), j0) {
+            j_drift = j_drift.max(rel(j, j0));
+        }
         let (c, en, p) = wide(&s);
         dc = dc.max(rel(c, c0));
         de = de.max(rel(en, en0));
@@ -182,5 +206,7 @@ pub fn propagate_forced<T: Real>(
     report.error = error;
     report.total_energy = total(taken, &s);
     report.total_energy_drift = e0.map(|_| drift);
+    report.jacobi_integral = jacobi(taken, &s);
+    report.jacobi_integral_drift = j0.map(|_| j_drift);
     report
 }
