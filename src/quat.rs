@@ -103,8 +103,10 @@ impl<T: Real> Quaternion<T> {
     /// and `-q` (the same rotation: the shorter turn is returned). The angle is
     /// `2 atan2(|u|, |w|)`, `u = (x, y, z)`, accurate to a few ulps at every angle (where
     /// `2 acos(w)` loses half the digits of a small angle), and the axis `u / |u|`; a
-    /// quaternion that is not unit is taken as its direction. The zero vector for `q = +-1`;
-    /// a non-finite `q` gives a non-finite vector.
+    /// quaternion that is not unit is taken as its direction (`|u|` is formed from the
+    /// components scaled by the largest where its square would leave the normal range, so
+    /// angles down to the smallest normal number and quaternions up to `T::MAX` keep their
+    /// digits). The zero vector for `q = +-1`; a non-finite `q` gives a non-finite vector.
     #[must_use]
     pub fn to_rotation_vector(self) -> [T; 3] {
         let q = if self.w < T::ZERO {
@@ -112,7 +114,7 @@ impl<T: Real> Quaternion<T> {
         } else {
             self
         };
-        let n = (q.x * q.x + q.y * q.y + q.z * q.z).sqrt();
+        let n = norm3(q.x, q.y, q.z);
         let angle = c::<T>(2.0) * n.atan2(q.w);
         // zero turn: the vector is zero whatever the factor (no division by zero)
         let k = if n > T::ZERO { angle / n } else { T::ZERO };
@@ -127,13 +129,16 @@ impl<T: Real> Quaternion<T> {
 
     /// The angle of the rotation from attitude `self` to attitude `other` (radians, in
     /// `[0, pi]`): `|(self^* (x) other).to_rotation_vector()|`, the attitude error a test or a
-    /// filter reports. Accurate to a few ulps of the angle for unit quaternions at every
-    /// angle, small ones included; `q` and `-q` are the same attitude (angle zero).
+    /// filter reports, with `2 atan2(|u|, |w|)` of the product (where `2 acos` of a dot
+    /// product keeps half the digits of a small angle). Accuracy: forming the product rounds
+    /// it by about an ulp of one, so the angle is good to a few `eps` absolute (the
+    /// attitudes' own resolution: `1e-7` rad in f32); where the product is exact (one of the
+    /// two is the identity) to a few ulps of the angle, small ones included. `q` and `-q` are
+    /// the same attitude (angle zero).
     #[must_use]
     pub fn angle_to(self, other: Self) -> T {
         let d = self.conjugate().compose(other);
-        let n = (d.x * d.x + d.y * d.y + d.z * d.z).sqrt();
-        c::<T>(2.0) * n.atan2(d.w.abs())
+        c::<T>(2.0) * norm3(d.x, d.y, d.z).atan2(d.w.abs())
     }
 
     /// The conjugate `[w, -x, -y, -z]`: the inverse rotation of a unit quaternion (space to
@@ -260,4 +265,21 @@ impl<T> From<Quaternion<T>> for [T; 4] {
     fn from(q: Quaternion<T>) -> Self {
         [q.w, q.x, q.y, q.z]
     }
+}
+
+/// `sqrt(x^2 + y^2 + z^2)` without leaving the normal range: where the sum of squares would
+/// overflow or fall below `MIN_POSITIVE / eps` (where its digits start to go), the
+/// components are scaled by the largest first.
+fn norm3<T: Real>(x: T, y: T, z: T) -> T {
+    let n2 = x * x + y * y + z * z;
+    if n2.is_finite() && n2 >= T::MIN_POSITIVE / T::EPSILON {
+        return n2.sqrt();
+    }
+    let s = x.abs().max(y.abs()).max(z.abs());
+    if !(s > T::ZERO && s.is_finite()) {
+        // zero, or a non-finite component (which the caller carries through)
+        return n2.sqrt();
+    }
+    let (a, b, d) = (x / s, y / s, z / s);
+    s * (a * a + b * b + d * d).sqrt()
 }

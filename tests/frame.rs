@@ -137,6 +137,27 @@ fn rotation_vectors_recompose_and_angles_between_attitudes() {
             "{angle}: {got}"
         );
     }
+    // where the squares leave the normal range (found in review: a quaternion of size 1e200
+    // gave NaN, a turn of 2e-170 rad gave zero, f32 angles below 1e-19 lost their digits)
+    let half = core::f64::consts::FRAC_PI_2;
+    let big = Quaternion::<f64>::new(1e200, 1e200, 0.0, 0.0).to_rotation_vector();
+    assert!(
+        (big[0] - half).abs() <= 4e-16 && big[1] == 0.0 && big[2] == 0.0,
+        "{big:?}"
+    );
+    let big = Quaternion::<f32>::new(2e19, 2e19, 0.0, 0.0).to_rotation_vector();
+    assert!((big[0] - half as f32).abs() <= 2e-7, "{big:?}");
+    let tiny = Quaternion::<f64>::new(1.0, 1e-170, -3e-171, 0.0).to_rotation_vector();
+    assert!((tiny[0] - 2e-170).abs() <= 4e-16 * 2e-170, "{tiny:?}");
+    assert!((tiny[1] + 6e-171).abs() <= 4e-16 * 6e-171, "{tiny:?}");
+    for angle in [1e-22f32, 1e-30, 1e-36] {
+        let turn = Quaternion::from_rotation_vector([0.0, 0.0, angle]);
+        let got = Quaternion::IDENTITY.angle_to(turn);
+        assert!(
+            (got - angle).abs() <= 4.0 * f32::EPSILON * angle,
+            "{angle:e}: {got:e}"
+        );
+    }
     assert_eq!(Quaternion::<f64>::IDENTITY.to_rotation_vector(), [0.0; 3]);
     let bad = Quaternion::new(f64::NAN, 0.0, 0.0, 0.0).to_rotation_vector();
     assert!(bad.iter().any(|x| !x.is_finite()));

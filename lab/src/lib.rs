@@ -15,6 +15,7 @@ pub mod forced_refs;
 pub mod forced_work;
 pub mod general;
 pub mod hv_dmv;
+pub mod inputs;
 pub mod lgvi;
 pub mod loop_cost;
 pub mod methods;

@@ -5,6 +5,7 @@ use rigid3::{Body, Real, State};
 use rigid3_lab::forced_methods::{
     describe_forced, make_forced, needs_exact_drift, ForceSpec, FORCED_METHODS,
 };
+use rigid3_lab::inputs;
 use rigid3_lab::methods::{describe, make, METHODS};
 use rigid3_lab::propagate::{propagate, propagate_forced, Report};
 use std::process::ExitCode;
@@ -428,12 +429,9 @@ fn main() -> ExitCode {
     }
 }
 
-/// The most steps `propagate` takes (a larger count is a typo, not a run: 1e10 mv steps
-/// take about five minutes).
-const MAX_STEPS: f64 = 1e10;
-
-/// `propagate`'s inputs checked before anything runs: every number finite (and within f32's
-/// range with `--f32`), `h` nonzero, `t` at least zero and at most [`MAX_STEPS`] steps, `q0`
+/// `propagate`'s inputs checked before anything runs (rigid3_lab::inputs): every number
+/// finite (and within f32's range with `--f32`; `q0` is normalised in f64 first), `h`
+/// nonzero in the run's precision, `t` at least zero and at most `MAX_STEPS` steps, `q0`
 /// nonzero (returned normalised, so the invariants are those of the attitude the run
 /// starts from). Returns `q0` and the number of steps.
 fn check_propagate(
@@ -445,17 +443,12 @@ fn check_propagate(
     f32: bool,
     spec: &ForceSpec,
 ) -> Result<(Option<[f64; 4]>, usize), String> {
-    let fits = |x: f64| x.is_finite() && (!f32 || (x as f32).is_finite());
-    let range = if f32 { " and within f32's range" } else { "" };
     let mut named: Vec<(&str, Vec<f64>)> = vec![
         ("inertia", inertia.to_vec()),
         ("m0", m0.to_vec()),
         ("h", vec![h]),
         ("t", vec![t]),
     ];
-    if let Some(q) = q0 {
-        named.push(("q0", q.to_vec()));
-    }
     if let Some(r) = spec.rotor {
         named.push(("rotor", r.to_vec()));
     }
@@ -471,40 +464,17 @@ fn check_propagate(
         named.push(("torque-freq", w.to_vec()));
         named.push(("torque-phase", p.to_vec()));
     }
-    for (flag, values) in &named {
-        if !values.iter().all(|&x| fits(x)) {
-            return Err(format!("--{flag} must be finite{range}"));
-        }
-    }
-    if h == 0.0 || !fits(h) {
-        return Err("--h must be nonzero (a negative h runs backwards)".into());
-    }
+    let refs: Vec<(&str, &[f64])> = named.iter().map(|(f, v)| (*f, v.as_slice())).collect();
+    inputs::check_finite(&refs, f32)?;
+    inputs::check_step(h, f32)?;
     if t < 0.0 {
         return Err(
             "--t is a duration and must be at least 0 (a negative --h runs backwards)".into(),
         );
     }
     let steps = (t / h).abs().round();
-    if !(steps <= MAX_STEPS) {
-        return Err(format!(
-            "--t {t:e} at --h {h:e} is {steps:e} steps, more than {MAX_STEPS:e}: shorten --t or enlarge --h"
-        ));
-    }
-    let q0 = match q0 {
-        Some(q) => {
-            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
-            if !(n > 0.0 && n.is_finite()) {
-                return Err("--q0 must be a nonzero quaternion w,x,y,z".into());
-            }
-            // a unit one to round-off is kept bit for bit
-            Some(if (n - 1.0).abs() > 4.0 * f64::EPSILON {
-                q.map(|x| x / n)
-            } else {
-                q
-            })
-        }
-        None => None,
-    };
+    inputs::check_steps(steps, &format!("--t {t:e} at --h {h:e}"))?;
+    let q0 = q0.map(inputs::unit_quaternion).transpose()?;
     Ok((q0, steps as usize))
 }
 

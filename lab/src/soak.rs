@@ -75,18 +75,14 @@ pub fn soak<T: Real + 'static>(
     h: f64,
     steps: u64,
 ) -> Result<Soak, String> {
-    // the attitude the run starts from is the unit one (the invariants are those of the
-    // state stepped, not of a quaternion the integrator normalises on its first step)
-    let n = (q0[0] * q0[0] + q0[1] * q0[1] + q0[2] * q0[2] + q0[3] * q0[3]).sqrt();
-    if !(n > 0.0 && n.is_finite()) {
-        return Err("--q0 must be a finite nonzero quaternion w,x,y,z".into());
-    }
-    // (a unit one to round-off is kept bit for bit)
-    let q0 = if (n - 1.0).abs() > 4.0 * f64::EPSILON {
-        q0.map(|x| x / n)
-    } else {
-        q0
-    };
+    // the numbers checked before the run, each refusal naming its flag (crate::inputs); the
+    // attitude the run starts from is the unit one (the invariants are those of the state
+    // stepped, not of a quaternion the integrator normalises on its first step)
+    let f32 = T::EPSILON.to_f64() > 1e-10;
+    crate::inputs::check_finite(&[("inertia", &inertia), ("m0", &m0), ("h", &[h])], f32)?;
+    crate::inputs::check_step(h, f32)?;
+    crate::inputs::check_steps(steps as f64, "--steps")?;
+    let q0 = crate::inputs::unit_quaternion(q0)?;
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let mut it = make(method, body, T::from_f64(h))
         .ok_or_else(|| format!("unknown method '{method}' (see `rigid3-lab methods`)"))?;

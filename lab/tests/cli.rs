@@ -124,7 +124,7 @@ fn propagate_refuses_bad_numbers_naming_the_flag() {
         (&["--h", "0.1", "--t", "-1"], "--t is a duration"),
         (
             &["--h", "0.1", "--t", "1", "--q0", "0,0,0,0"],
-            "--q0 must be a nonzero",
+            "--q0 must be a finite nonzero",
         ),
         (
             &["--h", "0.1", "--t", "1", "--rotor", "nan,0,0"],
@@ -151,6 +151,10 @@ fn propagate_refuses_bad_numbers_naming_the_flag() {
             &["--h", "1e300", "--t", "1e300", "--f32"],
             "--h must be finite and within f32's range",
         ),
+        (
+            &["--h", "1e-50", "--t", "1e-45", "--f32"],
+            "--h must be nonzero in f32",
+        ),
     ] {
         let mut args = base.to_vec();
         args.extend_from_slice(extra);
@@ -176,6 +180,33 @@ fn propagate_normalises_q0() {
     for k in 0..3 {
         assert!((a[k] - b[k]).abs() < 1e-14, "{a:?} {b:?}");
     }
+    // a direction at any scale (review: 1e200 and 1e-170 were refused as zero)
+    let unit = run("1,0,0,0");
+    for q0 in ["1e200,0,0,0", "1e-170,0,0,0"] {
+        assert_eq!(run(q0)["q"], unit["q"], "{q0}");
+    }
+}
+
+/// `soak` checks its numbers too, naming the flag (review: `--h 0` ran silently, `--h nan` and
+/// an f32 overflow stopped with a message naming none, `--steps 1e14` ran without end).
+#[test]
+fn soak_refuses_bad_numbers_naming_the_flag() {
+    for (extra, want) in [
+        (&["--h", "0"][..], "--h must be nonzero"),
+        (&["--h", "nan"], "--h must be finite"),
+        (
+            &["--m0", "1e39,1,1", "--f32"],
+            "--m0 must be finite and within f32's range",
+        ),
+        (&["--q0", "0,0,0,0"], "--q0 must be a finite nonzero"),
+    ] {
+        let mut args = vec!["soak", "--method", "mv", "--steps", "100"];
+        args.extend_from_slice(extra);
+        let (ok, out) = lab(&args);
+        assert!(!ok && out.contains(want), "{extra:?}: {out}");
+    }
+    let (ok, out) = lab(&["soak", "--method", "mv", "--steps", "100000000000000"]);
+    assert!(!ok && out.contains("--steps is 1e14 steps"), "{out}");
 }
 
 /// A gravity gradient whose nadir turns (`N != 0`) conserves the Jacobi integral
