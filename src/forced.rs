@@ -434,14 +434,32 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// `None` without a potential, and for a sum that is not finite (a state or potential
     /// that overflows, a potential of `+inf` and `-inf` parts): never NaN.
     pub(crate) fn total_energy(&self, body: &Body<T>, s: &State<T>) -> Option<T> {
-        let m = Vec3::from_array(s.m).sub(self.rotor);
-        let kinetic = c::<T>(0.5) * m.mul_elem(m).dot(body.inverse_inertia());
-        let total = kinetic + self.torque.potential(self.clock.t, &s.q)?;
-        if total.is_finite() {
-            Some(total)
-        } else {
-            None
-        }
+        total_energy(
+            body.inverse_inertia(),
+            self.rotor,
+            &self.torque,
+            self.clock.t,
+            s,
+        )
+    }
+}
+
+/// `1/2 (m - h_r) . I^-1 (m - h_r) + V(t, q)`; `None` without a potential and for a sum that
+/// is not finite (shared by the forced integrators and [`crate::ForcedRk4`]).
+pub(crate) fn total_energy<T: Real, F: Torque<T>>(
+    inv_i: Vec3<T>,
+    rotor: Vec3<T>,
+    torque: &F,
+    t: T,
+    s: &State<T>,
+) -> Option<T> {
+    let m = Vec3::from_array(s.m).sub(rotor);
+    let kinetic = c::<T>(0.5) * m.mul_elem(m).dot(inv_i);
+    let total = kinetic + torque.potential(t, &s.q)?;
+    if total.is_finite() {
+        Some(total)
+    } else {
+        None
     }
 }
 
@@ -643,7 +661,7 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// rounding used to drop: on a sphere in f32 `m` moves 70 to 125 ulps (1.2e-5) in `10^6` steps
 /// of `step_state_with` with zero torques or a small constant torque (it stayed within 4 ulps
 /// before). The carry costs the
-/// M4F's forced step 17 instructions (589), a soft-float Cortex-M3's about 2000 (19892).
+/// M4F's forced step 17 instructions (592), a soft-float Cortex-M3's about 2000 (19895).
 /// Drifts other than `Mv` and `PreMv` carry only the kicks' and the turns' rounding. In f64
 /// only the kicks' rounding is carried: the walk is `1e-16` a step there, below the method's
 /// error, and the carry's flops would buy nothing.

@@ -49,6 +49,32 @@ impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
         Ok(())
     }
 
+    /// The rotor momentum `h_r` (body frame).
+    #[must_use]
+    pub fn rotor(&self) -> [T; 3] {
+        self.rotor.to_array()
+    }
+
+    /// The torque model.
+    #[must_use]
+    pub fn torque(&self) -> &F {
+        &self.torque
+    }
+
+    /// The torque model, to change its parameters.
+    pub fn torque_mut(&mut self) -> &mut F {
+        &mut self.torque
+    }
+
+    /// Total energy `1/2 (m - h_r) . I^-1 (m - h_r) + V(t, q)` at the current time, or `None`
+    /// when the torque has no potential or the sum is not finite (it overflows). RK4 does
+    /// not conserve it: it drifts at `O(h^4)` per unit time (the forced methods' stays
+    /// bounded).
+    #[must_use]
+    pub fn total_energy(&self, s: &State<T>) -> Option<T> {
+        crate::forced::total_energy(self.inv_i, self.rotor, &self.torque, self.t, s)
+    }
+
     /// The time of the state.
     #[must_use]
     pub fn time(&self) -> T {

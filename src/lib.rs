@@ -46,7 +46,7 @@
 //! | type | what | order |
 //! |---|---|---|
 //! | [`Forced`] | kick–turn–drift–turn–kick around any free integrator: a torque model of the attitude and time ([`torque`]: constant, periodic, gravity, gravity gradient, closures) or a torque given per step (`step_state_with`, instead of a model; `step_state_plus`, added to the model: a controller's command), and rotor momentum in the body frame (`set_rotor`, any tick). With `Mv` it is the Lie group variational integrator, explicit | 2 |
-//! | [`Composed`] | `new`: compositions of `Forced`'s step (any drift, rotor allowed); `nystrom`: Blanes–Moan Nyström splittings with a near-exact drift (`PreMv` order 10, or `Exact`), for torques without rotor, the cheapest per accuracy on the README's heavy top below `1e-6`; `force_gradient`: Chin's two-drift splitting 4A with the bracket `[B, [A, B]]` in its middle kick, the cheapest rigid3 method from `1e-4` to `1e-6` on the heavy top (level with RK4 at `1e-4`, below it at `1e-5` and `1e-6`) | 4, 6 |
+//! | [`Composed`] | `new`: compositions of `Forced`'s step (any drift, rotor allowed); `nystrom`: Blanes–Moan Nyström splittings with a near-exact drift (`PreMv` order 10, or `Exact`), for torques without rotor, the cheapest per accuracy on the README's heavy top below `1e-6`; `force_gradient`: Chin's two-drift splitting 4A with the bracket `[B, [A, B]]` in its middle kick, the cheapest rigid3 method from `1e-4` to `1e-6` on the heavy top in counted operations (level with RK4 at `1e-4`, below it at `1e-5` and `1e-6`; in host time RK4 is faster there) | 4, 6 |
 //! | [`ForcedRk4`] | classical Runge–Kutta on the full forced equations (baseline) | 4 |
 //!
 //! The forced step keeps what the torque leaves: `|m|^2` and `R(q) m` with a rotor alone, the

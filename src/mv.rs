@@ -302,6 +302,12 @@ struct Anchor<T> {
     /// step after a change of `h` was refused as `Degenerate`).
     hn0: T,
     taken: (T, T),
+    /// The scale `kappa` when the invariants were taken, and `taken.1` in the current scale:
+    /// a re-solve after a large change of `h` may choose another `kappa`, and `beta`
+    /// (`j = J / kappa` in it) moves by its square. Both are carried from the taken values,
+    /// so repeated re-solves do not let `beta` random-walk.
+    kappa0: T,
+    beta_base: T,
     /// Free-running steps since the last one that moved its input back onto the invariants
     /// (`0` = the next one does): see [`Mv::advance_frozen`].
     unheld: u8,
@@ -348,7 +354,7 @@ struct Spatial<T> {
 impl<T: Real> Anchor<T> {
     /// The anchor for momentum `m` with invariants `alpha`, `beta` in scaled units.
     #[inline]
-    fn take(m: Vec3<T>, k: Invariants<T>, hn: T) -> Self {
+    fn take(m: Vec3<T>, k: Invariants<T>, hn: T, kappa: T) -> Self {
         let mut a = Self {
             last: m,
             alpha: T::ZERO,
@@ -357,10 +363,12 @@ impl<T: Real> Anchor<T> {
             half_inv: T::ZERO,
             hn0: T::ZERO,
             taken: (T::ZERO, T::ZERO),
+            kappa0: T::ONE,
+            beta_base: T::ZERO,
             unheld: 0,
             spatial: None,
         };
-        a.retake(m, k, hn);
+        a.retake(m, k, hn, kappa);
         a
     }
 
@@ -373,7 +381,7 @@ impl<T: Real> Anchor<T> {
 
     /// [`Anchor::take`] in place, keeping the spatial reference.
     #[inline(always)]
-    fn retake(&mut self, m: Vec3<T>, k: Invariants<T>, hn: T) {
+    fn retake(&mut self, m: Vec3<T>, k: Invariants<T>, hn: T, kappa: T) {
         self.last = m;
         self.alpha = k.sum_a;
         self.beta = k.beta;
@@ -381,6 +389,8 @@ impl<T: Real> Anchor<T> {
         self.half_inv = T::ZERO;
         self.hn0 = hn;
         self.taken = (k.sum_a, k.beta);
+        self.kappa0 = kappa;
+        self.beta_base = k.beta;
     }
 
     /// The first-order correction `delta = x m + y (j^2 m)` that takes the input's invariants
@@ -407,14 +417,15 @@ impl<T: Real> Anchor<T> {
     }
 
     /// The same invariants for the scaled step `hn`, in place (the spatial reference is
-    /// kept: it does not depend on `h`).
+    /// kept: it does not depend on `h`; the scale `kappa` is the one of the last
+    /// [`Anchor::carried_correction`]).
     fn rescale(&mut self, hn: T) {
         let r = if self.hn0 != T::ZERO {
             sq(hn / self.hn0)
         } else {
             T::ZERO
         };
-        let (alpha, beta) = (self.taken.0 * r, self.taken.1 * r);
+        let (alpha, beta) = (self.taken.0 * r, self.beta_base * r);
         let ok = alpha.is_finite() && beta.is_finite();
         self.alpha = if ok { alpha } else { T::ZERO };
         self.beta = if ok { beta } else { T::ZERO };
@@ -426,6 +437,27 @@ impl<T: Real> Anchor<T> {
         } else {
             T::ZERO
         };
+    }
+
+    /// The correction towards the trajectory's invariants carried to the scaled step `t.hn`
+    /// and the scale `t.kappa` chosen by a re-solve (after a change of `h` larger than the
+    /// tracked root survives); `None` when they cannot be carried (the anchor read zero) and
+    /// must be re-taken. Out of line and cold: it runs only after a re-solve. Inlined beside
+    /// the step's own correction it grew the M4F step by 370 bytes; inlined, or called from
+    /// the re-solve in `Mv::system`, the host's free-running f64 step took 390 instead of
+    /// 380 instructions and 8 % more time. (This shape costs the M4F's free-running step 5
+    /// instructions against those, 321 vs 316: the layout of one large step function.)
+    #[cold]
+    #[inline(never)]
+    fn carried_correction(&mut self, k: Invariants<T>, t: &Track<T>) -> Option<(T, T)> {
+        self.beta_base = self.taken.1 * sq(self.kappa0 / t.kappa);
+        self.rescale(t.hn);
+        if self.alpha > T::ZERO {
+            self.unheld = 1;
+            Some(self.correction(k, t))
+        } else {
+            None
+        }
     }
 }
 
@@ -891,14 +923,30 @@ impl<T: Real> Mv<T> {
                 a.unheld = 1;
                 Some(a.correction(k.invariants(), t))
             }
+            // h changed by more than the tracked root survives (set_step_size dropped it, or
+            // the update did not converge), m did not: the trajectory goes on, its invariants
+            // carried to the new step and scale. Re-taking them from the input instead let
+            // them random-walk, then drift: on the talk's case with h cycling through 0.04 to
+            // 0.16, |m|^2 and E moved 4.8e-12 in 10^6 steps (found in review; 9e-16 now).
+            Some(a) if follows && self.recheck && !self.retake => {
+                match a.carried_correction(k.invariants(), t) {
+                    Some(corr) => Some(corr),
+                    None => {
+                        a.retake(m, k.invariants(), t.hn, t.kappa);
+                        None
+                    }
+                }
+            }
             _ => {
                 // the spatial momentum stays the trajectory's (hold_spatial re-takes it if
                 // the attitude changed too)
                 // (in place: building a new anchor and moving it in copied about 50 words a
                 // step on the M4F in a loop that changes m every tick)
                 match self.anchor.as_mut() {
-                    Some(a) => a.retake(m, k.invariants(), t.hn),
-                    None => self.anchor = Some(Anchor::take(m, k.invariants(), t.hn)),
+                    Some(a) => a.retake(m, k.invariants(), t.hn, t.kappa),
+                    None => {
+                        self.anchor = Some(Anchor::take(m, k.invariants(), t.hn, t.kappa));
+                    }
                 }
                 None
             }
@@ -1000,7 +1048,16 @@ impl<T: Real> Mv<T> {
             if !(m.norm2() >= T::MIN_POSITIVE / T::EPSILON) {
                 return None;
             }
-            self.frozen = Some(FrozenMap::new(t.j, t.c0, t.s0, t.delta, t.hn, a.alpha));
+            match FrozenMap::new(t.j, t.c0, t.s0, t.delta, t.hn, a.alpha) {
+                Some(map) => self.frozen = Some(map),
+                None => {
+                    // the map would amplify round-off here: this trajectory solves
+                    if let Some(t) = self.track.as_mut() {
+                        t.may_freeze = false;
+                    }
+                    return None;
+                }
+            }
         }
         // by reference: a copy of the 19 words was a memcpy call
         let map = self.frozen.as_ref()?;
@@ -1012,6 +1069,16 @@ impl<T: Real> Mv<T> {
             // the invariants by value: a reference to a Coefficients put it on the stack,
             // and reading it back stalled the step on the host (57 instead of 45 ns)
             let (corr, corr_v) = a.correction(t.invariants(m), t);
+            if !(corr.abs() <= t.tol_unit) {
+                // far more than round-off moved the invariants since the last hold: the map
+                // amplifies it on this trajectory (FrozenMap::new's test missed it, or a
+                // NaN): it solves from now on, this step included (a comparison every
+                // HOLD_PERIOD-th step)
+                if let Some(t) = self.track.as_mut() {
+                    t.may_freeze = false;
+                }
+                return None;
+            }
             // a non-finite increment (a momentum whose cube overflows) makes next non-finite
             let increment = map.increment(m, corr + T::ONE);
             (increment, increment.add(t.invariant_fix(m, corr, corr_v)))
