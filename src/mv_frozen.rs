@@ -81,12 +81,27 @@ impl<T: Real> FrozenMap<T> {
     /// there (some held up to 4.6): the map is refused above 0.5, and the trajectory solves.
     #[inline(never)]
     pub(crate) fn new(j: Vec3<T>, c0: Vec3<T>, s0: T, delta: T, hn: T, alpha: T) -> Option<Self> {
+        Self::with_limit(j, c0, s0, delta, hn, alpha, 0.5)
+    }
+
+    /// [`FrozenMap::new`] refusing the map where `alpha > limit * min |d_i|` (tests build
+    /// the map where `new` refuses it, to check the step's own guard).
+    #[inline(always)]
+    pub(crate) fn with_limit(
+        j: Vec3<T>,
+        c0: Vec3<T>,
+        s0: T,
+        delta: T,
+        hn: T,
+        alpha: T,
+        limit: f64,
+    ) -> Option<Self> {
         let s1 = s0 + delta;
         // e = s2 - s2_0 - alpha, with s2 - s2_0 = s0 delta + (delta^2 + alpha) / 2
         let e = s0 * delta + (sq(delta) - alpha) * c::<T>(0.5);
         let d = Vec3::new(c0.x + e, c0.y + e, c0.z + e);
         let d_min = d.x.abs().min(d.y.abs()).min(d.z.abs());
-        if !(alpha <= c::<T>(0.5) * d_min) {
+        if !(alpha <= c::<T>(limit) * d_min) {
             return None;
         }
         let adj = Vec3::new(d.y * d.z, d.x * d.z, d.x * d.y);
