@@ -5,30 +5,9 @@
 
 mod common;
 
-use common::{Rng, TALK_I, TALK_J};
+use common::{rotation as rot, Rng, TALK_I, TALK_J};
 use proptest::prelude::*;
 use rigid3::{Body, BodyError};
-
-fn rot(q: [f64; 4]) -> [[f64; 3]; 3] {
-    let [w, x, y, z] = q;
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
-}
 
 /// R diag(d) R^T
 fn tensor(r: [[f64; 3]; 3], d: [f64; 3]) -> [[f64; 3]; 3] {

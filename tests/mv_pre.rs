@@ -26,28 +26,6 @@ fn errors(
     (dist(s.m, refs.0), qdist(s.q, refs.1))
 }
 
-/// The rotation matrix of the unit quaternion `(w, x, y, z)`, written out (not rigid3's).
-fn rotation(q: [f64; 4]) -> [[f64; 3]; 3] {
-    let [w, x, y, z] = q;
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
-}
-
 /// The attitude error as docs/MATH.md §5 states it: the largest entry of `R(q) - R(q_ref)`
 /// (about 1.6x `|q - q_ref|` on the talk's case).
 fn rotation_entry_error(q: [f64; 4], q_ref: [f64; 4]) -> f64 {
