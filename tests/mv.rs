@@ -447,6 +447,42 @@ fn large_changes_of_h_keep_the_trajectorys_invariants_f32() {
     assert!(worst <= 4e-6, "f32 invariants {worst:e}");
 }
 
+/// The documented error model of a solved step (`Mv`'s docs): `|m|^2` within a few
+/// `eps J_max / J_min` of the input's, the condition of the step's 3x3 system on a needle.
+/// f32, 2000 random needles (smallest moment 1 to 1e-3 of the others), a fresh solve from a
+/// random momentum at `h` from 0.01 to 0.21; measured worst 1.5 of the model here (3.9 over
+/// 20000 other draws).
+#[test]
+fn a_solved_f32_step_on_a_needle_is_within_its_conditioning() {
+    let mut rng = Rng::new(2026);
+    let (mut worst, mut steps) = (0.0f64, 0);
+    while steps < 2000 {
+        let i1 = 10f64.powf(-rng.range(0.0, 3.0));
+        let i = [i1 as f32, 1.0, (1.0 + rng.range(0.0, 0.05) * i1) as f32];
+        let body = Body::<f32>::from_inertia(i).unwrap();
+        let j = body.mass_matrix();
+        let (j_max, j_min) = (j[0].max(j[1]).max(j[2]), j[0].min(j[1]).min(j[2]));
+        let m0 = [
+            rng.range(-1.0, 1.0) as f32,
+            rng.range(-1.0, 1.0) as f32,
+            rng.range(-1.0, 1.0) as f32,
+        ];
+        let mut m = m0;
+        if Mv::new(body, rng.range(0.01, 0.21) as f32)
+            .step(&mut m)
+            .is_err()
+        {
+            continue; // past the step's limit: refused, as it should be
+        }
+        let c0 = f64::from(body.casimir(&m0));
+        let err = (f64::from(body.casimir(&m)) - c0).abs() / c0;
+        worst = worst.max(err / (f64::from(f32::EPSILON) * f64::from(j_max / j_min)));
+        steps += 1;
+    }
+    println!("f32 needles, one solved step: |m|^2 error up to {worst:.2} eps J_max / J_min");
+    assert!(worst <= 8.0, "{worst}");
+}
+
 #[test]
 fn planar_body_steps_and_conserves() {
     let plate = Body::<f64>::from_inertia([1.0, 2.0, 3.0]).unwrap();
