@@ -661,7 +661,7 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// rounding used to drop: on a sphere in f32 `m` moves 70 to 125 ulps (1.2e-5) in `10^6` steps
 /// of `step_state_with` with zero torques or a small constant torque (it stayed within 4 ulps
 /// before). The carry costs the
-/// M4F's forced step 17 instructions (596), a soft-float Cortex-M3's about 2000 (19903).
+/// M4F's forced step 17 instructions (597), a soft-float Cortex-M3's about 2000 (19898).
 /// Drifts other than `Mv` and `PreMv` carry only the kicks' and the turns' rounding. In f64
 /// only the kicks' rounding is carried: the walk is `1e-16` a step there, below the method's
 /// error, and the carry's flops would buy nothing.

@@ -107,10 +107,6 @@ struct Track<T> {
     /// `delta` is small enough (`h |Omega|` small) that a free-running step keeps it as it
     /// is and runs the rational map: see [`Mv::system`] and [`Mv::advance_frozen`].
     may_freeze: bool,
-    /// The rational map was refused on this trajectory (it would amplify round-off: a
-    /// needle, [`FrozenMap::new`], or a hold found the invariants moved): `may_freeze` stays
-    /// false until a re-solve from scratch builds a new `Track`.
-    no_map: bool,
 }
 
 impl<T: Real> Track<T> {
@@ -136,7 +132,6 @@ impl<T: Real> Track<T> {
             newton_tol: T::ZERO,
             tol_unit: T::ZERO,
             may_freeze: false,
-            no_map: false,
         }
     }
 
@@ -241,6 +236,12 @@ pub struct Mv<T> {
     /// The body changed since the last step: the DMV invariants are taken afresh from the
     /// next input (they depend on `J`), while the spatial momentum is kept (it does not).
     retake: bool,
+    /// The rational map was refused on this trajectory (it would amplify round-off: a
+    /// needle, [`FrozenMap::new`], or a hold found `|m|^2` moved): each solved step clears
+    /// the tracking data's `may_freeze`, which its update sets again, until a re-solve from
+    /// scratch. (Here, not in the tracking data: there it cost the free-running M4F step 3
+    /// instructions.)
+    no_map: bool,
     /// `I^-1`.
     inv_i: Vec3<T>,
     /// `h I^-1 / 4`, for the attitude's update ([`Mv::rotation_between`]).
@@ -579,6 +580,7 @@ impl<T: Real> Mv<T> {
             anchor: None,
             recheck: false,
             retake: false,
+            no_map: false,
             inv_i: body.inverse_inertia(),
             turn_scale: Lane4::new(body.inverse_inertia().scale(h * c::<T>(0.25))),
             phase: 0,
@@ -868,6 +870,7 @@ impl<T: Real> Mv<T> {
         let mut resynced = false;
         if self.track.is_none() {
             self.track = Some(Self::resync(&self.body, self.h, m)?);
+            self.no_map = false;
             resynced = true;
         }
         let Some(t) = self.track.as_mut() else {
@@ -892,6 +895,7 @@ impl<T: Real> Mv<T> {
             // far from the tracked root (a large change of m or h): solve exactly, with the
             // scale re-chosen for this m
             *t = Self::resync(&self.body, self.h, m)?;
+            self.no_map = false;
             return Ok((t.coefficients(m), true));
         }
         Ok((k, resynced))
@@ -917,6 +921,11 @@ impl<T: Real> Mv<T> {
         }
         self.frozen = None;
         let (k, resynced) = self.system(m, follows && !self.recheck)?;
+        if self.no_map {
+            if let Some(t) = self.track.as_mut() {
+                t.may_freeze = false;
+            }
+        }
         let Some(t) = self.track.as_ref() else {
             return Err(StepError::Degenerate);
         };
@@ -1119,13 +1128,13 @@ impl<T: Real> Mv<T> {
         })
     }
 
-    /// Stops the rational map on this trajectory (see [`Track::no_map`]).
+    /// Stops the rational map on this trajectory (see [`Mv::no_map`]).
     #[cold]
     #[inline(never)]
     fn refuse_map(&mut self) {
         self.frozen = None;
+        self.no_map = true;
         if let Some(t) = self.track.as_mut() {
-            t.no_map = true;
             t.may_freeze = false;
         }
     }
@@ -1371,7 +1380,7 @@ impl<T: Real> Track<T> {
     #[inline]
     fn set_delta(&mut self, delta: T) {
         self.delta = delta;
-        self.may_freeze = delta.abs() <= c::<T>(FROZEN_BELOW) * self.s0 && !self.no_map;
+        self.may_freeze = delta.abs() <= c::<T>(FROZEN_BELOW) * self.s0;
     }
 
     /// `g(delta)` and `g'(delta)`.
@@ -1618,7 +1627,7 @@ mod tests {
                 let dc = (body.casimir(&m) - c0).abs() / c0;
                 let de = (body.energy(&m) - e0).abs() / e0;
                 worst = worst.max(dc).max(de);
-                if stopped_at.is_none() && mv.track.as_ref().unwrap().no_map {
+                if stopped_at.is_none() && mv.no_map {
                     stopped_at = Some(k);
                 }
                 if stopped_at.is_some_and(|s| k > s + 8) {
@@ -1632,7 +1641,7 @@ mod tests {
             );
             let t = mv.track.as_ref().unwrap();
             assert!(
-                t.no_map && !t.may_freeze && mv.frozen.is_none(),
+                mv.no_map && !t.may_freeze && mv.frozen.is_none(),
                 "{i:?} h {h}"
             );
             assert!(
