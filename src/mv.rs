@@ -434,7 +434,7 @@ impl<T: Real> Anchor<T> {
 
     /// The same invariants for the scaled step `hn`, in place (the spatial reference is
     /// kept: it does not depend on `h`; the scale `kappa` is the one of the last
-    /// [`Anchor::carried_correction`]).
+    /// [`Anchor::retake`] or [`Anchor::carried_correction`]).
     fn rescale(&mut self, hn: T) {
         let r = if self.hn0 != T::ZERO {
             sq(hn / self.hn0)

@@ -1,6 +1,8 @@
 //! The `rigid3-lab propagate` command end to end: JSON output against the reference
 //! solution, invariants, and errors reported for bad input.
 
+mod common;
+
 use std::process::Command;
 
 fn lab(args: &[&str]) -> (bool, String) {
@@ -256,24 +258,7 @@ fn propagate_reports_the_jacobi_integral_of_a_turning_gravity_gradient() {
             .collect();
         let t = v["t"].as_f64().unwrap();
         // R(q) and r = R(q)^T (cos Nt, sin Nt, 0)
-        let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
-        let r_mat = [
-            [
-                1.0 - 2.0 * (y * y + z * z),
-                2.0 * (x * y - w * z),
-                2.0 * (x * z + w * y),
-            ],
-            [
-                2.0 * (x * y + w * z),
-                1.0 - 2.0 * (x * x + z * z),
-                2.0 * (y * z - w * x),
-            ],
-            [
-                2.0 * (x * z - w * y),
-                2.0 * (y * z + w * x),
-                1.0 - 2.0 * (x * x + y * y),
-            ],
-        ];
+        let r_mat = common::rotation([q[0], q[1], q[2], q[3]]);
         let d = [(n * t).cos(), (n * t).sin(), 0.0];
         let r: Vec<f64> = (0..3)
             .map(|i| (0..3).map(|j| r_mat[j][i] * d[j]).sum())

@@ -176,24 +176,9 @@ fn the_quaternion_form_of_the_dmv_equation() {
     for _ in 0..1000 {
         let j = [rng.unit(), rng.unit(), rng.unit()];
         let i = [j[1] + j[2], j[0] + j[2], j[0] + j[1]];
-        let [w, x, y, z] = random_unit_quaternion(&mut rng);
-        let r = [
-            [
-                1.0 - 2.0 * (y * y + z * z),
-                2.0 * (x * y - w * z),
-                2.0 * (x * z + w * y),
-            ],
-            [
-                2.0 * (x * y + w * z),
-                1.0 - 2.0 * (x * x + z * z),
-                2.0 * (y * z - w * x),
-            ],
-            [
-                2.0 * (x * z - w * y),
-                2.0 * (y * z + w * x),
-                1.0 - 2.0 * (x * x + y * y),
-            ],
-        ];
+        let p = random_unit_quaternion(&mut rng);
+        let [w, x, y, z] = p;
+        let r = common::rotation(p);
         let v = [x, y, z];
         let jv = [j[0] * x, j[1] * y, j[2] * z];
         let cross = [

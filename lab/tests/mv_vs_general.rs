@@ -26,24 +26,7 @@ fn compare(j: [f64; 3], m0: [f64; 3], h: f64) -> f64 {
         worst = worst.max((s.m[c] - mg).abs() / r);
     }
     // R(q) must equal X (q0 = 1)
-    let [w, a, b, cc] = s.q;
-    let rq = [
-        [
-            1.0 - 2.0 * (b * b + cc * cc),
-            2.0 * (a * b - w * cc),
-            2.0 * (a * cc + w * b),
-        ],
-        [
-            2.0 * (a * b + w * cc),
-            1.0 - 2.0 * (a * a + cc * cc),
-            2.0 * (b * cc - w * a),
-        ],
-        [
-            2.0 * (a * cc - w * b),
-            2.0 * (b * cc + w * a),
-            1.0 - 2.0 * (a * a + b * b),
-        ],
-    ];
+    let rq = common::rotation(s.q);
     for i in 0..3 {
         for k in 0..3 {
             worst = worst.max((rq[i][k] - x[i][k]).abs());

@@ -60,25 +60,6 @@ pub fn qdist(a: [f64; 4], b: [f64; 4]) -> f64 {
     d1.min(d2)
 }
 
-/// The rotation matrix `R(q)` of a unit quaternion `(w, x, y, z)`, written out (not
-/// rigid3's: an independent oracle).
-pub fn rotation(q: [f64; 4]) -> [[f64; 3]; 3] {
-    let [w, x, y, z] = q;
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
-}
+// the rotation matrix written out (one definition, shared with the lab's tests)
+mod rotation;
+pub use rotation::rotation;
