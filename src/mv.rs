@@ -336,6 +336,12 @@ struct Anchor<T> {
 #[cold]
 #[inline(never)]
 fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> Option<(T, T)> {
+    // the determinant's products a_i a_k are of order alpha^2, which leaves the normal range
+    // long before alpha does (f32 below h |Omega| of about 1e-10: it went subnormal, its
+    // inverse overflowed, and a step at h = 1e-9 returned Overflow, found in review)
+    if !(k.sum_a >= (T::MIN_POSITIVE / T::EPSILON).sqrt()) {
+        return energy_correction_in_units_of_alpha(k, t, da, db);
+    }
     let a = k.a;
     let j2 = t.j2;
     // formed here, out of line, not kept in the Track: a PreMv updates its body after every
@@ -352,6 +358,49 @@ fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> O
     } else {
         None
     }
+}
+
+/// [`energy_correction`] with every invariant divided by `alpha = sum a_i`, for an `alpha`
+/// whose square leaves the normal range (the Gram matrix is then `[[1, beta], [beta,
+/// gamma]]`).
+#[cold]
+#[inline(never)]
+fn energy_correction_in_units_of_alpha<T: Real>(
+    k: Invariants<T>,
+    t: &Track<T>,
+    da: T,
+    db: T,
+) -> Option<(T, T)> {
+    let to_unit = T::ONE / k.sum_a;
+    if !to_unit.is_finite() {
+        return None;
+    }
+    let a = k.a.scale(to_unit);
+    let (beta, da, db) = (k.beta * to_unit, da * to_unit, db * to_unit);
+    let j2 = t.j2;
+    let (d12, d13, d23) = (sq(j2.x - j2.y), sq(j2.x - j2.z), sq(j2.y - j2.z));
+    let det = a.x * a.y * d12 + a.x * a.z * d13 + a.y * a.z * d23;
+    let gamma = a.dot(j2.mul_elem(j2));
+    if det > c::<T>(1e-3) * gamma {
+        let inv = c::<T>(0.5) / det;
+        Some(((gamma * da - beta * db) * inv, (db - beta * da) * inv))
+    } else {
+        None
+    }
+}
+
+/// What [`Mv::advance`] returns for a step of size zero; [`Mv::refused`] turns it into `Ok`
+/// with the state as it was.
+const PAUSED: StepError = StepError::Degenerate;
+
+/// The smallest anchored `alpha = |h m / kappa|^2` that keeps all its digits
+/// (`MIN_POSITIVE / eps`, about `1e-31` in f32 and `1e-292` in f64: `h |Omega|` below about
+/// `1e-15` and `1e-146`). Below it the anchor corrects nothing: its invariants have lost
+/// digits to underflow, and moving a momentum onto them moved it by up to its own size (the
+/// step's own increment there is far below an ulp of `m`).
+#[inline(always)]
+fn full_digits<T: Real>(alpha: T) -> bool {
+    alpha >= T::MIN_POSITIVE / T::EPSILON
 }
 
 /// The spatial momentum the attitude is held to.
@@ -417,7 +466,11 @@ impl<T: Real> Anchor<T> {
     /// corrected (`y = 0`). Returns `(x, y)`.
     #[inline]
     fn correction(&mut self, k: Invariants<T>, t: &Track<T>) -> (T, T) {
-        if self.half_inv == T::ZERO && self.alpha > T::ZERO {
+        if self.half_inv == T::ZERO {
+            // m = 0, or an anchor without its digits: nothing to correct with
+            if !full_digits(self.alpha) {
+                return (T::ZERO, T::ZERO);
+            }
             self.half_inv = c::<T>(0.5) / self.alpha;
         }
         let da = self.alpha - k.sum_a;
@@ -448,7 +501,7 @@ impl<T: Real> Anchor<T> {
         self.beta_tol = c::<T>(16.0) * T::EPSILON * self.beta;
         // formed here, not by the next step: the division then runs beside the step's chain
         // instead of in it (a jittering clock rescales before every step)
-        self.half_inv = if self.alpha > T::ZERO {
+        self.half_inv = if full_digits(self.alpha) {
             c::<T>(0.5) / self.alpha
         } else {
             T::ZERO
@@ -457,8 +510,8 @@ impl<T: Real> Anchor<T> {
 
     /// The correction towards the trajectory's invariants carried to the scaled step `t.hn`
     /// and the scale `t.kappa` chosen by a re-solve (after a change of `h` larger than the
-    /// tracked root survives); `None` when they cannot be carried (the anchor read zero) and
-    /// must be re-taken. Out of line and cold: it runs only after a re-solve. Inlined beside
+    /// tracked root survives); `None` when they cannot be carried (the anchor read zero, or
+    /// lost digits, [`full_digits`]) and must be re-taken. Out of line and cold: it runs only after a re-solve. Inlined beside
     /// the step's own correction it grew the M4F step by 370 bytes; inlined, or called from
     /// the re-solve in `Mv::system`, the host's free-running f64 step took 390 instead of
     /// 380 instructions and 8 % more time. (This shape cost the M4F's free-running step 5
@@ -469,7 +522,11 @@ impl<T: Real> Anchor<T> {
     fn carried_correction(&mut self, k: Invariants<T>, t: &Track<T>) -> Option<(T, T)> {
         self.beta_base = self.taken.1 * sq(self.kappa0 / t.kappa);
         self.rescale(t.hn);
-        if self.alpha > T::ZERO {
+        // invariants taken at a step so small that they lost digits cannot be carried
+        // (the carried correction moved m by up to its size, and the step was refused as
+        // Degenerate at every step after h = 1e-22 -> 1e-3 in f32, found in review): they
+        // are taken again
+        if full_digits(self.taken.0) && full_digits(self.alpha) {
             self.unheld = 1;
             Some(self.correction(k, t))
         } else {
@@ -704,7 +761,14 @@ impl<T: Real> Mv<T> {
     pub(crate) fn step_state_rotation(&mut self, s: &mut State<T>) -> Result<Quat<T>, StepError> {
         let (v, q) = checked_state(s)?;
         let follows = self.follows_state(v, q);
-        let step = self.advance(v, follows.1)?;
+        let step = match self.advance(v, follows.1) {
+            Ok(step) => step,
+            Err(e) => {
+                return self
+                    .refused(e)
+                    .map(|()| Quat::from_array([T::ONE, T::ZERO, T::ZERO, T::ZERO]))
+            }
+        };
         let next = step.next;
         let (p, _) = self.rotation_between(v, next, step.increment)?;
         let zero = Quat::from_array([T::ZERO; 4]);
@@ -783,6 +847,10 @@ impl<T: Real> Mv<T> {
     #[cold]
     #[inline(never)]
     fn resync(body: &Body<T>, h: T, m: Vec3<T>) -> Result<Track<T>, StepError> {
+        if h == T::ZERO {
+            // a pause ([`Mv::set_far_step_size`])
+            return Err(PAUSED);
+        }
         if !h.is_finite() {
             return Err(StepError::NonFinite);
         }
@@ -1008,7 +1076,9 @@ impl<T: Real> Mv<T> {
         // is far above the round-off of any step the arithmetic can resolve.
         // (in scaled units, |hn m| <= 1: neither side overflows or underflows apart)
         let drift = next.scale(t.hn).norm2() - target;
-        if !(drift.abs() <= t.tol_unit * target) {
+        if !(drift.abs() <= t.tol_unit * target)
+            && !Self::on_sphere_unscaled(next, applied, target, t)
+        {
             return Err(StepError::Degenerate);
         }
         self.recheck = false;
@@ -1036,7 +1106,10 @@ impl<T: Real> Mv<T> {
     #[inline(never)]
     fn step_state_carry(&mut self, s: &mut State<T>, lost: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
-        let step = self.advance(v, false)?;
+        let step = match self.advance(v, false) {
+            Ok(step) => step,
+            Err(e) => return self.refused(e),
+        };
         let next = step.next;
         let (p, small) = self.rotation_between(v, next, step.increment)?;
         // an attitude that goes on from the last step's is renormalised every HOLD_PERIOD-th
@@ -1126,6 +1199,57 @@ impl<T: Real> Mv<T> {
             increment,
             applied,
         })
+    }
+
+    /// The sphere check of [`Mv::advance`] where the scaled `|hn m|^2` has lost digits to
+    /// underflow (`h |Omega|` below about `1e-15` in f32): `|m'|^2` against `|m|^2` scaled
+    /// by the largest component, with `m = m' - applied` (to an ulp; taking `m` itself kept
+    /// it live through the step, 17 instructions on the M4F). Only then: a target with all
+    /// its digits was checked in scaled units, and a step that moves such an input by more
+    /// than `sqrt(eps)` is wrong. (No correction is applied below [`full_digits`], so
+    /// `|m|^2` is the step's own.)
+    #[cold]
+    #[inline(never)]
+    fn on_sphere_unscaled(next: Vec3<T>, applied: Vec3<T>, target: T, t: &Track<T>) -> bool {
+        if full_digits(target) {
+            return false;
+        }
+        let m = next.sub(applied);
+        let big = m.max_abs();
+        if !(big > T::ZERO) {
+            return next.max_abs() == T::ZERO;
+        }
+        let to_unit = T::ONE / big;
+        let (before, after) = (m.scale(to_unit).norm2(), next.scale(to_unit).norm2());
+        (after - before).abs() <= t.tol_unit * before
+    }
+
+    /// [`Integrator::set_step_size`] beyond what the tracked root survives: a change by more
+    /// than 2x, the first step after a pause, or zero, which pauses the steps: the tracked
+    /// root is dropped, so each step goes to the re-solve ([`Mv::resync`]), which refuses it
+    /// with a marker that [`Mv::refused`] turns into `Ok` with the state as it was. No test
+    /// on the step's own path (a test and early return there made LLVM lay the M4F's steps
+    /// out 5 to 36 instructions longer). The anchored invariants stay, and the first step
+    /// after the pause carries them to its `h`, as after a large change of `h`.
+    #[cold]
+    #[inline(never)]
+    fn set_far_step_size(&mut self, h: T) {
+        self.track = None;
+        self.h = h;
+        self.turn_scale.v = self.inv_i.scale(h * c::<T>(0.25));
+        self.recheck = true;
+    }
+
+    /// A step [`Mv::advance`] refused with `e`: `Ok` (nothing done) for a step of size zero,
+    /// else `Err(e)` (the state untouched).
+    #[cold]
+    #[inline(never)]
+    fn refused(&self, e: StepError) -> Result<(), StepError> {
+        if self.h == T::ZERO {
+            Ok(())
+        } else {
+            Err(e)
+        }
     }
 
     /// Stops the rational map on this trajectory (see [`Mv::no_map`]).
@@ -1465,7 +1589,10 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let v = checked_momentum(m)?;
         let follows = matches!(&self.anchor, Some(a) if a.last == v);
-        let next = self.advance(v, follows)?.next;
+        let next = match self.advance(v, follows) {
+            Ok(step) => step.next,
+            Err(e) => return self.refused(e),
+        };
         *m = next.to_array();
         Ok(())
     }
@@ -1480,7 +1607,10 @@ impl<T: Real> Integrator<T> for Mv<T> {
         // as step_state_carry: with carry, every step an outside change, its rounding
         // carried
         let follows = !carry && matches!(&self.anchor, Some(a) if a.last == v);
-        let step = self.advance(v, follows)?;
+        let step = match self.advance(v, follows) {
+            Ok(step) => step,
+            Err(e) => return self.refused(e),
+        };
         if carry {
             *lost = step.carry_into(v, *lost);
         }
@@ -1491,7 +1621,10 @@ impl<T: Real> Integrator<T> for Mv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
         let follows = self.follows_state(v, q);
-        let step = self.advance(v, follows.1)?;
+        let step = match self.advance(v, follows.1) {
+            Ok(step) => step,
+            Err(e) => return self.refused(e),
+        };
         let next = step.next;
         let (p, small) = self.rotation_between(v, next, step.increment)?;
         let zero = Quat::from_array([T::ZERO; 4]);
@@ -1527,17 +1660,28 @@ impl<T: Real> Integrator<T> for Mv<T> {
         self.h
     }
 
+    /// A zero `h` (a timer read twice in one tick) pauses the steps: they leave the state as
+    /// it is, and the trajectory's invariants are kept and carried to the next non-zero `h`
+    /// (its first step solves the root again). (Before, a step at `h = 0` re-took the
+    /// invariants from its input and so did the step after it, and they random-walked: in
+    /// f32 `|m|^2` and `E` 4e-4 off after `2 x 10^5` ticks of which one in seven was zero,
+    /// found in review.) The `h` of the last step changes nothing
+    /// either: a loop that sets a measured `dt` every tick pays for a change only when the
+    /// reading changes (the same `dt` set every tick cost what a jittering one does, 1.7x
+    /// the free-running step, found in review).
     fn set_step_size(&mut self, h: T) {
-        let old = self.h;
-        self.h = h;
-        self.turn_scale.v = self.inv_i.scale(h * c::<T>(0.25));
-        self.recheck = true;
+        if h == self.h {
+            return;
+        }
         // the tracked root is kept within 2x of the old step: (h / old)^2 in [1/4, 4], false
-        // for a NaN or infinite h and for old = 0 (one division: the four comparisons of
-        // magnitudes it replaced cost more on the M4F)
-        let r2 = sq(h / old);
+        // for a zero, NaN or infinite h and for old = 0 (one division: the four comparisons
+        // of magnitudes it replaced cost more on the M4F); paused, there is no root
+        let r2 = sq(h / self.h);
         match self.track.as_mut() {
             Some(t) if r2 >= c::<T>(0.25) && r2 <= c::<T>(4.0) => {
+                self.h = h;
+                self.turn_scale.v = self.inv_i.scale(h * c::<T>(0.25));
+                self.recheck = true;
                 let hn = t.scaled(h);
                 t.hn = hn;
                 t.delta *= r2;
@@ -1545,9 +1689,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
                     a.rescale(hn);
                 }
             }
-            _ => {
-                self.track = None;
-            }
+            _ => self.set_far_step_size(h),
         }
     }
 

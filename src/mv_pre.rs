@@ -141,6 +141,10 @@ impl<T: Real> PreMv<T> {
     #[cold]
     #[inline(never)]
     fn retime(&mut self, m: &[T; 3]) -> Result<Option<[T; 3]>, StepError> {
+        if self.h == T::ZERO {
+            self.pause();
+            return Ok(None);
+        }
         let inv = self.modifier.modified_inverse(self.h, m)?;
         if matches!(&self.modified_inv, Some(old) if same3(old, &inv)) {
             // the same modified body: the Mv's own change of h (its invariants rescaled and
@@ -212,10 +216,24 @@ impl<T: Real> PreMv<T> {
         }
     }
 
+    /// A step of size zero: the inner `Mv` pauses (its steps leave the state as it is) and
+    /// the modified body stays the last non-zero step's; the next non-zero `h` updates it
+    /// as any change of `h` does. (No test on the step's own path: a zero `h` reaches here
+    /// as a change of `h`, or of `m`.)
+    fn pause(&mut self) {
+        if self.mv.step_size() != T::ZERO {
+            self.mv.set_step_size(T::ZERO);
+        }
+    }
+
     /// Updates the modified body for momentum `m` (`from`: see [`Mv::set_body`]).
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
+        if self.h == T::ZERO {
+            self.pause();
+            return Ok(());
+        }
         // m and h are checked by the modifier (NonFinite there)
         let inv = self.modifier.modified_inverse(self.h, m)?;
         self.rebuild_with(inv, from)
@@ -310,7 +328,14 @@ impl<T: Real> Integrator<T> for PreMv<T> {
         self.h
     }
 
+    /// A zero `h` changes nothing: the steps leave the state as it is, and the trajectory
+    /// goes on with the last non-zero `h` (as [`Mv`]'s; taken as a change of `h`, zero ticks
+    /// let the invariants random-walk).
     fn set_step_size(&mut self, h: T) {
+        // the same h changes nothing (a loop that sets a measured dt every tick)
+        if h == self.h {
+            return;
+        }
         self.h = h;
         self.h_changed = true;
     }

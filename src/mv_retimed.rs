@@ -20,7 +20,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::exact::Orbit as Flow;
-use crate::integrator::{checked_momentum, Integrator, State};
+use crate::integrator::{checked_momentum, checked_state, Integrator, State};
 use crate::linalg::Vec3;
 use crate::mv_pre::{s3_coefficients, PreMv};
 use crate::real::{c, sq, Real};
@@ -96,6 +96,8 @@ pub struct RetimedMv<T> {
     uneven: bool,
     /// `set_step_size` was called since the last step.
     h_changed: bool,
+    /// The step size is zero: steps leave everything as it is.
+    idle: bool,
     /// Steps since the last update for a changed `m` (after [`FIRST_CHECK`] of them the next
     /// step retimes exactly, `reanchor`, so the run gets its [`PhaseCheck`] back).
     quiet: u32,
@@ -279,6 +281,7 @@ impl<T: Real> RetimedMv<T> {
             s3_coef: s3_coefficients(body.inertia()),
             inv_i: body.inverse_inertia(),
             h_changed: false,
+            idle: h == T::ZERO,
             quiet: 0,
             reanchor: false,
         })
@@ -630,10 +633,14 @@ fn retime<T: Real>(
         // near the solution the exact time is h itself (hp is off by tau_3 h^3)
         exact_time(body, &orbit, &m1, h)
     };
-    // the warm start, or h itself
-    let mut a = match warm {
-        Some(r) if r.is_finite() && r > c::<T>(0.5) && r < c::<T>(2.0) => h * r,
-        _ => h,
+    // the warm start, or h itself (the ratio is made a number before it is compared: LLVM
+    // compared the payload of a `None` speculatively, whatever bits it held, and on x86 an
+    // integer read as a subnormal f32 costs a microcode assist, tests/host_subnormals.rs)
+    let r = warm.unwrap_or(T::ONE);
+    let mut a = if r.is_finite() && r > c::<T>(0.5) && r < c::<T>(2.0) {
+        h * r
+    } else {
+        h
     };
     let mut fa = tau(a)? - h;
     // converged when the residual is at round-off (`h'` is off by about the residual:
@@ -666,6 +673,9 @@ fn retime<T: Real>(
 
 impl<T: Real> Integrator<T> for RetimedMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
+        if self.idle {
+            return checked_momentum(m).map(|_| ());
+        }
         self.prepare(m)?;
         self.inner.step(m)?;
         self.count_step(m);
@@ -673,6 +683,9 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
+        if self.idle {
+            return checked_state(s).map(|_| ());
+        }
         self.prepare(&s.m)?;
         self.inner.step_state(s)?;
         self.count_step(&s.m);
@@ -680,12 +693,23 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
     }
 
     fn step_size(&self) -> T {
-        self.h
+        if self.idle {
+            T::ZERO
+        } else {
+            self.h
+        }
     }
 
     /// Changes the step size; the next step updates `h'` incrementally or retimes afresh
     /// ([`RetimedMv`]).
+    /// A zero `h` changes nothing: the steps leave the state as it is, and the trajectory
+    /// goes on with the last non-zero `h` (as [`Mv`]'s; taken as a change of `h`, zero ticks
+    /// let the invariants random-walk).
     fn set_step_size(&mut self, h: T) {
+        self.idle = h == T::ZERO;
+        if self.idle {
+            return;
+        }
         // a loop that hands in the same dt every tick changes nothing (it would update, or on
         // an uneven body retime exactly, every step)
         if h == self.h {
