@@ -652,12 +652,17 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// 4.3e-6 after `10^6` (without the carry: 2e-4 to 1.2e-3 rad after `2 x 10^5` steps, 5e-3 to
 /// 5e-2 after `10^6`); the gravity gradient's Jacobi integral within 4e-7 of the kinetic
 /// energy over `10^6` steps (1.8e-4 and 8.9e-4 with wheels before). Those attitude figures
-/// are that body's: how far an ulp travels depends on the dynamics, and the scene-free
-/// statement is that f32 stays as close to f64 as f64 stays to itself started one f32 ulp
-/// of `m0` away (0.4-0.75x of that difference there; about 500x without the carry). Without torque and rotor
-/// nothing is carried: the drift runs its own free-running step and holds. Where the exact
+/// are that body's: how far an ulp travels depends on the dynamics, and so does how close
+/// f32 stays to f64. Against f64's own sensitivity (f64 started one f32 ulp of `m0` away) f32
+/// is at 0.4-0.75x of it there (1.2x in attitude, 1.5x in `m`, with both runs started from the
+/// f32-rounded `m0`), 2.4-2.9x in attitude and 4-5x in `m` on the README firmware's spacecraft
+/// (1.5-1.8e-5 rad after `2 x 10^5` steps), and up to 117x in `m` near a sphere (an analyst's
+/// review); about 500x without the carry. Without torque and rotor the drift runs its own
+/// free-running step, which holds the invariants and (f32) carries its own rounding
+/// ([`crate::Mv`]). Where the exact
 /// increment is zero (a sphere, whose `m` a torque-free step leaves as it is) the carry also
-/// keeps the increments' own round-off, about `1e-4` ulp a step and the same every step, which
+/// keeps the increments' own round-off, about `1e-4` ulp a step at `h |Omega| = 5e-4` (more at
+/// faster turns: 5e-3 ulp a step at `2.5e-3`, bounded from `10^5` to `10^6` steps), which
 /// rounding used to drop: on a sphere in f32 `m` moves 70 to 125 ulps (1.2e-5) in `10^6` steps
 /// of `step_state_with` with zero torques or a small constant torque (it stayed within 4 ulps
 /// before). The carry costs the

@@ -703,7 +703,7 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
     /// Changes the step size; the next step updates `h'` incrementally or retimes afresh
     /// ([`RetimedMv`]).
     /// A zero `h` changes nothing: the steps leave the state as it is, and the trajectory
-    /// goes on with the last non-zero `h` (as [`Mv`]'s; taken as a change of `h`, zero ticks
+    /// goes on with the last non-zero `h` (as [`crate::Mv`]'s; taken as a change of `h`, zero ticks
     /// let the invariants random-walk).
     fn set_step_size(&mut self, h: T) {
         self.idle = h == T::ZERO;
