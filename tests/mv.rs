@@ -806,7 +806,11 @@ fn a_turn_past_the_existence_limit_is_refused() {
 }
 
 /// A method in f32 and in f64.
-type Pair = (&'static str, Box<dyn Integrator<f32>>, Box<dyn Integrator<f64>>);
+type Pair = (
+    &'static str,
+    Box<dyn Integrator<f32>>,
+    Box<dyn Integrator<f64>>,
+);
 
 /// The attitude angle between two unit quaternions (`2 min(|a - b|, |a + b|)`, to first
 /// order).
