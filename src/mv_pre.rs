@@ -231,7 +231,12 @@ impl<T: Real> PreMv<T> {
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
         if self.h == T::ZERO {
+            // the caller changed the state during a pause: the Mv forgets the trajectory
+            // (its spatial reference too), as a step would after such a change (kept, the
+            // next hold turned the attitude back onto the old `R(q) m`: 1.3e-2 rad after a
+            // 1e-2 correction, found in review); the body is rebuilt at the next step
             self.pause();
+            self.mv.reset();
             return Ok(());
         }
         // m and h are checked by the modifier (NonFinite there)

@@ -842,6 +842,8 @@ fn f32_slow_turns_keep_their_phase() {
         (1.3e-2, 1e-3),
         (1.3e-1, 1e-3),
         (1.3e-3, 5e-3),
+        (0.3, 5e-3),
+        (1.0, 5e-3),
     ] {
         let m0: [f32; 3] = std::array::from_fn(|k| (dir[k] / dn * rate * inertia[k]) as f32);
         let start = State::new(m0.map(|x| x as f64), q0.map(|x| x as f64));
@@ -875,8 +877,11 @@ fn f32_slow_turns_keep_their_phase() {
             report.push(format!(
                 "{name} {rate:e} rad/s h {h:e}: q {q_off:.2e} rad, m {m_off:.2e}, momentum-only m {m_only_off:.2e}"
             ));
+            // fast turns (where nothing is carried, `Mv`'s docs) are limited by the step's
+            // own relative rounding, eps of the angle turned
+            let bound = (4.0 * f32::EPSILON as f64 * rate * h * 200_000.0).max(1e-5);
             assert!(
-                q_off <= 1e-5 && m_off <= 1e-5 && m_only_off <= 1e-5,
+                q_off <= bound && m_off <= bound && m_only_off <= bound,
                 "{}",
                 report.last().unwrap()
             );
