@@ -216,10 +216,10 @@ impl<T: Real> Advanced<T> {
 /// and `m` 7.4e-3 off after `10^6` steps). In f32 the plain steps keep what the rounding of
 /// `m + increment` and `q + turn` dropped (Fast2Sum: the error of a sum is exact) and add it
 /// to the next step's increments while the caller leaves the state alone, on trajectories
-/// with `h |Omega|` below about `1e-3` ([`CARRY_BELOW`]; above, rounding is unbiased and the
-/// steps are the plain ones): 1.4e-7 rad and 2.6e-8 there, 1.4e-5 rad at 1.3e-1 rad/s, 5.7e-6
-/// at 0.1 rad/s and 200 Hz (was 9.1e-5; tests/mv.rs `f32_slow_turns_keep_their_phase`,
-/// against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
+/// with `h |Omega|` below about `1e-3` (`|h m / kappa|^2` at most 4e-6; above, rounding is
+/// unbiased, carrying it measured worse, and the steps are the plain ones): 1.4e-7 rad and
+/// 2.6e-8 there, 1.4e-5 rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
+/// tests/mv.rs `f32_slow_turns_keep_their_phase`, against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
 /// `R(q) m` in f32: taken at every hold they drove the phase about the spatial momentum by
 /// 8e-6 rad in the same run. Cost on the M4F: 15 instructions of the 182 of a momentum step,
 /// 44 of the 365 with attitude. In f64 the rounding costs about 1e-13 rad there, and nothing
