@@ -221,8 +221,8 @@ impl<T: Real> Advanced<T> {
 /// 2.6e-8 there, 1.4e-5 rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
 /// tests/mv.rs `f32_slow_turns_keep_their_phase`, against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
 /// `R(q) m` in f32: taken at every hold they drove the phase about the spatial momentum by
-/// 8e-6 rad in the same run. Cost on the M4F: 15 instructions of the 182 of a momentum step,
-/// 44 of the 365 with attitude. In f64 the rounding costs about 1e-13 rad there, and nothing
+/// 8e-6 rad in the same run. Cost on the M4F: 20 instructions of the 187 of a momentum step,
+/// 51 of the 372 with attitude. In f64 the rounding costs about 1e-13 rad there, and nothing
 /// is carried (the branches are constants, folded away).
 ///
 /// Accuracy: agrees with the general Cardoso–Leite solver to about `1e-15` per step (f64);
