@@ -216,13 +216,13 @@ impl<T: Real> Advanced<T> {
 /// and `m` 7.4e-3 off after `10^6` steps). In f32 the plain steps keep what the rounding of
 /// `m + increment` and `q + turn` dropped (Fast2Sum: the error of a sum is exact) and add it
 /// to the next step's increments while the caller leaves the state alone, on trajectories
-/// with `h |Omega|` below about `1e-3` (`|h m / kappa|^2` at most 4e-6; above, rounding is
-/// unbiased, carrying it measured worse, and the steps are the plain ones): 1.4e-7 rad and
+/// with `h |Omega|` below `1e-3` (above, rounding is unbiased, carrying it measured worse,
+/// and the steps are the plain ones): 1.4e-7 rad and
 /// 2.6e-8 there, 1.4e-5 rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
 /// tests/mv.rs `f32_slow_turns_keep_their_phase`, against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
 /// `R(q) m` in f32: taken at every hold they drove the phase about the spatial momentum by
-/// 8e-6 rad in the same run. Cost on the M4F: 20 instructions of the 187 of a momentum step,
-/// 51 of the 372 with attitude. In f64 the rounding costs about 1e-13 rad there, and nothing
+/// 8e-6 rad in the same run. Cost on the M4F: 18 instructions of the 185 of a momentum step,
+/// 49 of the 370 with attitude. In f64 the rounding costs about 1e-13 rad there, and nothing
 /// is carried (the branches are constants, folded away).
 ///
 /// Accuracy: agrees with the general Cardoso–Leite solver to about `1e-15` per step (f64);
@@ -297,14 +297,16 @@ const HOLD_PERIOD: u8 = 8;
 /// phase about `pi0` (8e-6 rad in `10^6` steps at 1.3e-3 rad/s and 1 kHz, 60x the carried
 /// steps' own error). `R(q) m` then stays within about `8 eps` of the trajectory's.
 const DEADBAND: f64 = 16.0;
-/// The plain f32 steps carry their rounding ([`carries`]) while the trajectory's anchored
-/// `alpha = |h m / kappa|^2` is at most this (`h |Omega|` below about `1e-3`): there a step
-/// moves `m` and `q` by few enough ulps that rounding loses a biased part of the motion.
-/// Above, rounding is unbiased, and carrying it measured worse in review (spacecraft at
-/// 1 rad/s and 200 Hz, median over 8 directions after `10^6` steps: 1.7e-3 rad from f64
-/// against 5.2e-4, 5.5e-2 against 4.4e-3 after `10^7`; mechanism not found), so those steps
-/// are the plain ones, bit for bit.
-const CARRY_BELOW: f64 = 4e-6;
+/// The plain f32 steps carry their rounding ([`carries`]) while the trajectory's
+/// `(h |Omega|)^2` (taken with its invariants, [`Anchor::retake`]) is at most this: there a
+/// step moves `m` and `q` by few enough ulps that rounding loses a biased part of the
+/// motion. Above, rounding is unbiased, and carrying it measured worse in review (spacecraft
+/// at 1 rad/s and 200 Hz, median over 8 directions after `10^6` steps: 1.7e-3 rad from f64
+/// against 5.2e-4, 5.5e-2 against 4.4e-3 after `10^7`; a rod spinning about its axis under a
+/// jittering clock, 0.71 against 0.082 rad; mechanism not found), so those steps are the
+/// plain ones, bit for bit. (A first version gated on `|h m / kappa|^2`, which follows
+/// `h |Omega|` only for compact bodies: on the rod it carried up to `h |Omega| = 0.1`.)
+const CARRY_TURN2: f64 = 1e-6;
 /// A hold step of the free-running map finds `|m|^2` within this many ulps of the anchored
 /// value (the steps between holds move it by about one each; the talk's case and random bodies
 /// stay below 3 in f32 and f64), or the map is stopped on the trajectory ([`Mv::refuse_map`]).
@@ -372,6 +374,10 @@ struct Anchor<T> {
     /// Free-running steps since the last one that moved its input back onto the invariants
     /// (`0` = the next one does): see [`Mv::advance_frozen`].
     unheld: u8,
+    /// `(h |Omega|)^2` when the invariants were taken (rescaled with them), and whether the
+    /// plain f32 steps carry their rounding on this trajectory ([`CARRY_TURN2`]).
+    turn2_taken: T,
+    carry: bool,
     /// With attitude: the spatial momentum of the trajectory (`pi0 = R(q) m` as taken, then
     /// `pi0 / |pi0|^2` once a step needs it) and the attitude returned last.
     spatial: Option<Spatial<T>>,
@@ -464,7 +470,7 @@ struct Spatial<T> {
 impl<T: Real> Anchor<T> {
     /// The anchor for momentum `m` with invariants `alpha`, `beta` in scaled units.
     #[inline]
-    fn take(m: Vec3<T>, k: Invariants<T>, hn: T, kappa: T) -> Self {
+    fn take(m: Vec3<T>, k: Invariants<T>, hn: T, kappa: T, turn_scale: Option<Vec3<T>>) -> Self {
         let mut a = Self {
             last: m,
             alpha: T::ZERO,
@@ -476,9 +482,11 @@ impl<T: Real> Anchor<T> {
             kappa0: T::ONE,
             beta_base: T::ZERO,
             unheld: 0,
+            turn2_taken: T::ZERO,
+            carry: false,
             spatial: None,
         };
-        a.retake(m, k, hn, kappa);
+        a.retake(m, k, hn, kappa, turn_scale);
         a
     }
 
@@ -489,9 +497,28 @@ impl<T: Real> Anchor<T> {
         self.unheld = self.unheld.wrapping_add(1) & (HOLD_PERIOD - 1);
     }
 
-    /// [`Anchor::take`] in place, keeping the spatial reference.
+    /// [`Anchor::take`] in place, keeping the spatial reference (`turn_scale`: `h I^-1 / 4`
+    /// for a plain step, which may carry its rounding; `None` for a carried step, whose
+    /// caller carries it: the test costs the forced step nothing).
     #[inline(always)]
-    fn retake(&mut self, m: Vec3<T>, k: Invariants<T>, hn: T, kappa: T) {
+    fn retake(
+        &mut self,
+        m: Vec3<T>,
+        k: Invariants<T>,
+        hn: T,
+        kappa: T,
+        turn_scale: Option<Vec3<T>>,
+    ) {
+        match turn_scale {
+            Some(ts) if carries::<T>() => {
+                self.turn2_taken = c::<T>(16.0) * ts.mul_elem(m).norm2();
+                self.carry = self.turn2_taken <= c::<T>(CARRY_TURN2);
+            }
+            _ => {
+                self.turn2_taken = T::MAX;
+                self.carry = false;
+            }
+        }
         self.last = m;
         self.alpha = k.sum_a;
         self.beta = k.beta;
@@ -540,6 +567,8 @@ impl<T: Real> Anchor<T> {
             T::ZERO
         };
         let (alpha, beta) = (self.taken.0 * r, self.beta_base * r);
+        // (a zero or non-finite r turns the carry off)
+        self.carry = carries::<T>() && self.turn2_taken * r <= c::<T>(CARRY_TURN2) && r > T::ZERO;
         let ok = alpha.is_finite() && beta.is_finite();
         self.alpha = if ok { alpha } else { T::ZERO };
         self.beta = if ok { beta } else { T::ZERO };
@@ -567,6 +596,11 @@ impl<T: Real> Anchor<T> {
     fn carried_correction(&mut self, k: Invariants<T>, t: &Track<T>) -> Option<(T, T)> {
         self.beta_base = self.taken.1 * sq(self.kappa0 / t.kappa);
         self.rescale(t.hn);
+        // (h |Omega|)^2 is in unscaled units: the re-solve's scale enters with h
+        if self.carry {
+            let r = sq(t.hn / self.hn0 * (t.kappa / self.kappa0));
+            self.carry = self.turn2_taken * r <= c::<T>(CARRY_TURN2);
+        }
         // invariants taken at a step so small that they lost digits cannot be carried
         // (the carried correction moved m by up to its size, and the step was refused as
         // Degenerate at every step after h = 1e-22 -> 1e-3 in f32, found in review): they
@@ -748,10 +782,7 @@ impl<T: Real> Mv<T> {
         }
         let half = pi.cross(sp.pi).scale(c::<T>(0.5));
         // ([`DEADBAND`]: in f32 a turn at the measurement's noise is not made)
-        if carries::<T>()
-            && anchor.alpha <= c::<T>(CARRY_BELOW)
-            && !(half.norm2() > c::<T>(DEADBAND) * sq(T::EPSILON))
-        {
+        if carries::<T>() && anchor.carry && !(half.norm2() > c::<T>(DEADBAND) * sq(T::EPSILON)) {
             sp.last_q = q_next;
             return q_next;
         }
@@ -803,10 +834,10 @@ impl<T: Real> Mv<T> {
     }
 
     /// Whether the plain steps carry their rounding on this trajectory: in f32, below
-    /// [`CARRY_BELOW`].
+    /// [`CARRY_TURN2`].
     #[inline(always)]
     fn carrying(&self) -> bool {
-        matches!(&self.anchor, Some(a) if a.alpha <= c::<T>(CARRY_BELOW))
+        matches!(&self.anchor, Some(a) if a.carry)
     }
 
     /// What the last plain step's attitude rounding dropped, to add to this step's turn: the
@@ -1117,7 +1148,13 @@ impl<T: Real> Mv<T> {
                         Some(corr)
                     }
                     None => {
-                        a.retake(m, k.invariants(), t.hn, t.kappa);
+                        a.retake(
+                            m,
+                            k.invariants(),
+                            t.hn,
+                            t.kappa,
+                            plain.then_some(self.turn_scale.v),
+                        );
                         None
                     }
                 }
@@ -1128,9 +1165,21 @@ impl<T: Real> Mv<T> {
                 // (in place: building a new anchor and moving it in copied about 50 words a
                 // step on the M4F in a loop that changes m every tick)
                 match self.anchor.as_mut() {
-                    Some(a) => a.retake(m, k.invariants(), t.hn, t.kappa),
+                    Some(a) => a.retake(
+                        m,
+                        k.invariants(),
+                        t.hn,
+                        t.kappa,
+                        plain.then_some(self.turn_scale.v),
+                    ),
                     None => {
-                        self.anchor = Some(Anchor::take(m, k.invariants(), t.hn, t.kappa));
+                        self.anchor = Some(Anchor::take(
+                            m,
+                            k.invariants(),
+                            t.hn,
+                            t.kappa,
+                            plain.then_some(self.turn_scale.v),
+                        ));
                     }
                 }
                 None
@@ -1180,7 +1229,7 @@ impl<T: Real> Mv<T> {
         }
         if carries::<T>() {
             // the carried step hands its rounding to the caller's carry instead
-            self.carry_m = if plain && target <= c::<T>(CARRY_BELOW) {
+            self.carry_m = if plain && self.carrying() {
                 sum.sub(next.sub(m))
             } else {
                 Vec3::new(T::ZERO, T::ZERO, T::ZERO)
@@ -1304,7 +1353,7 @@ impl<T: Real> Mv<T> {
         a.count_unheld();
         a.last = next;
         if carries::<T>() {
-            self.carry_m = if plain && a.alpha <= c::<T>(CARRY_BELOW) {
+            self.carry_m = if plain && a.carry {
                 sum.sub(next.sub(m))
             } else {
                 Vec3::new(T::ZERO, T::ZERO, T::ZERO)
@@ -1351,6 +1400,9 @@ impl<T: Real> Mv<T> {
     #[inline(never)]
     fn set_far_step_size(&mut self, h: T) {
         self.track = None;
+        // the next step may leave the carry's range ([`CARRY_TURN2`]): it starts without
+        self.carry_m = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        self.carry_q = Quat::from_array([T::ZERO; 4]);
         self.h = h;
         self.turn_scale.v = self.inv_i.scale(h * c::<T>(0.25));
         self.recheck = true;
@@ -1809,7 +1861,12 @@ impl<T: Real> Integrator<T> for Mv<T> {
                 t.hn = hn;
                 t.delta *= r2;
                 if let Some(a) = self.anchor.as_mut() {
+                    let carried = a.carry;
                     a.rescale(hn);
+                    if carries::<T>() && carried && !a.carry {
+                        self.carry_m = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+                        self.carry_q = Quat::from_array([T::ZERO; 4]);
+                    }
                 }
             }
             _ => self.set_far_step_size(h),
@@ -1934,6 +1991,48 @@ mod tests {
     /// The series of [`turn_series`] up to [`series_limit`] against the closed forms: `p0 - 1`
     /// within half an ulp of one (the truncation's quarter plus rounding; a wrong coefficient
     /// of the last term kept is off by more), `1 / p0` within the closed form's own rounding.
+    /// The f32 steps carry their rounding where `h |Omega|` is below 1e-3 and nowhere else
+    /// ([`CARRY_TURN2`]); oracle: `h |I^-1 m|` from the body, not the step's scaled units
+    /// (a first gate on `|h m / kappa|^2` carried a rod spinning about its axis at
+    /// `h |Omega| = 0.1`, found in review). Where it does not carry, nothing is kept.
+    #[test]
+    fn the_f32_carry_runs_only_at_small_h_omega() {
+        let cases: [([f32; 3], [f32; 3], f32); 5] = [
+            ([0.01, 1.0, 1.0], [1.0, 0.02, -0.02], 1e-3),
+            ([60.0, 95.0, 120.0], [0.02, -0.05, 0.1], 1e-3),
+            ([60.0, 95.0, 120.0], [60.0, -95.0, 120.0], 5e-3),
+            ([60.0, 95.0, 120.0], [6.0, -9.5, 12.0], 5e-3),
+            ([1.0, 100.0, 100.0], [20.0, 1.0, 1.0], 1e-3),
+        ];
+        for (inertia, m0, h) in cases {
+            let body = Body::<f32>::from_inertia(inertia).unwrap();
+            let w = Vec3::new(m0[0] / inertia[0], m0[1] / inertia[1], m0[2] / inertia[2]);
+            let hw2 = (h * h * w.norm2()) as f64;
+            let mut mv = Mv::new(body, h);
+            let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+            for _ in 0..100 {
+                mv.step_state(&mut s).unwrap();
+            }
+            let carrying = mv.anchor.as_ref().unwrap().carry;
+            // (a margin around the bound: h |Omega| moves a little along the orbit)
+            if hw2 < 0.5 * CARRY_TURN2 {
+                assert!(carrying, "{inertia:?} {m0:?} h {h}: (h w)^2 {hw2:e}");
+            } else if hw2 > 2.0 * CARRY_TURN2 {
+                assert!(!carrying, "{inertia:?} {m0:?} h {h}: (h w)^2 {hw2:e}");
+                assert_eq!(mv.carry_m.to_array(), [0.0; 3]);
+                assert_eq!(mv.carry_q.to_array(), [0.0; 4]);
+            }
+        }
+        // f64 never carries
+        let body = Body::<f64>::from_inertia([60.0, 95.0, 120.0]).unwrap();
+        let mut mv = Mv::new(body, 1e-3);
+        let mut s = State::new([0.02, -0.05, 0.1], [1.0, 0.0, 0.0, 0.0]);
+        for _ in 0..100 {
+            mv.step_state(&mut s).unwrap();
+        }
+        assert!(!mv.anchor.as_ref().unwrap().carry);
+    }
+
     #[test]
     fn turn_series_matches_the_closed_forms() {
         let (lim64, lim32) = (series_limit::<f64>(), series_limit::<f32>());
