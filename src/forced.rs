@@ -47,8 +47,8 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, compose_attitude_carried, turn_in_space,
-    Integrator, State,
+    carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
+    turn_in_space, Integrator, State,
 };
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -132,16 +132,6 @@ pub(crate) fn unrotate<T: Real>(p: Quat<T>, m: Vec3<T>, lost: Vec3<T>) -> (Vec3<
     let t = u.cross(m).scale(T::ONE + T::ONE);
     let (next, dropped) = kick(m, t.scale(p.w).add(u.cross(t)));
     (next, lost.add(dropped))
-}
-
-/// Whether the forced steps carry the state's rounding at this precision ([`Forced`]'s error
-/// model): in f32 an ulp a step of random walk is what limits a long run under a torque; in
-/// f64 it is `1e-16` a step (`1e-12` after `10^8` steps), below the method's own error, and
-/// the carry's 30-odd flops a stage would buy nothing (they would also count against every
-/// forced method in the work-precision tables). A constant per type: the branches fold.
-#[inline(always)]
-pub(crate) fn carries_rounding<T: Real>() -> bool {
-    T::EPSILON.to_f64() > 1e-10
 }
 
 /// A momentum and an attitude (or what their rounding dropped).

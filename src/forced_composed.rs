@@ -46,7 +46,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::forced::{forcing_accessors, half_turn, kick, turn_momentum, turn_state, Forcing};
-use crate::integrator::{checked_momentum, checked_state, Integrator, State};
+use crate::integrator::{carries_rounding, checked_momentum, checked_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
 use crate::torque::Torque;
@@ -249,17 +249,6 @@ fn kick_torque<T: Real, F: Torque<T>>(
     };
     let turned = Vec3::from_array(torque.torque(t, &q.mul(p).to_array()));
     Ok(turned.sub(bracket))
-}
-
-/// Whether a composed step carries the state's rounding: whenever the precision needs it
-/// ([`crate::forced`]'s `carries_rounding`), torque or not. `Forced` leaves a free body to its
-/// drift's own free-running step and holds, but here each stage's drift starts from another
-/// stage's result, so it never runs free and never holds: without torque and rotor, f32
-/// `R(q) m` drifted by 1.2e-3 in `10^6` steps of order 4 at 1 kHz (`|m|^2` and `E` by 1e-5,
-/// found in review).
-#[inline(always)]
-fn carries_everything<T: Real>() -> bool {
-    crate::forced::carries_rounding::<T>()
 }
 
 /// Stage `i`'s drift, length and turn (a match, not indexing: no panic path).
@@ -533,9 +522,12 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let first = kick_torque(&self.forcing.torque, clock.t, qid, tau, self.inv_i, eps)?;
         let lost0 = Vec3::from_array(self.forcing.lost.m);
         let (mut v, mut lost) = kick(v0, first.scale(self.kick_len[0]).add(lost0));
-        // the free body (no torque, no rotor) is left to the drift's own holds; f64 carries
-        // nothing (crate::forced::carries_rounding)
-        let carry = carries_everything::<T>();
+        // the rounding is carried whenever the precision needs it, torque or not: `Forced`
+        // leaves a free body to its drift's own free-running step and holds, but here each
+        // stage's drift starts from another stage's result, so it never runs free and never
+        // holds (without torque and rotor, f32 `R(q) m` drifted by 1.2e-3 in `10^6` steps of
+        // order 4 at 1 kHz, found in review); f64 carries nothing
+        let carry = carries_rounding::<T>();
         // the turns' and the drifts' roundings join the carry after the last kick, off the
         // step's critical path (crate::forced's kdk)
         let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
@@ -589,7 +581,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         let lost0 = Vec3::from_array(self.forcing.lost.m);
         let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(lost0));
         let (mut q, mut lost_q) = (q0, Quat::from_array(self.forcing.lost.q));
-        let carry = carries_everything::<T>();
+        let carry = carries_rounding::<T>();
         // the turns' and the drifts' roundings join the carry after the last kick, as in `step`
         let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
         for (k, ((&i, &b), &g)) in self

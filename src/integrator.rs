@@ -210,6 +210,17 @@ pub(crate) fn turn_in_space<T: Real>(q: Quat<T>, half: Vec3<T>) -> Quat<T> {
     }
 }
 
+/// Whether the steps carry the state's rounding at this precision (Fast2Sum residues handed
+/// to the next step: [`crate::Forced`]'s error model, and [`crate::Mv`]'s plain steps at slow
+/// turns): in f32 an ulp a step of random walk, or a biased loss of a slow motion, is what
+/// limits a long run; in f64 it is `1e-16` a step (`1e-12` after `10^8` steps), below the
+/// methods' own error, and the carry's flops would buy nothing (they would also count against
+/// every method in the work-precision tables). A constant per type: the branches fold.
+#[inline(always)]
+pub(crate) fn carries_rounding<T: Real>() -> bool {
+    T::EPSILON.to_f64() > 1e-10
+}
+
 /// `q (x) dq` for a (nearly) unit `q` and a unit increment `dq`, with one rounding in the
 /// directions that turn the attitude: written as `q + (q (x) (dq - 1) + nu q)`, where
 /// `q (x) (dq - 1)` is small (relative rounding only) and `nu = (1 - |q (x) dq|^2) / 2` pulls

@@ -44,7 +44,7 @@ use crate::body::Body;
 use crate::cubic::quartic_largest_root;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
+    carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
     compose_unrenormalised, turn_in_space, write_state_stepped, Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
@@ -182,9 +182,16 @@ impl<T: Real> Advanced<T> {
     #[inline(always)]
     fn carry_into(&self, m: Vec3<T>, lost: [T; 3]) -> [T; 3] {
         Vec3::from_array(lost)
-            .add(self.applied.sub(self.next.sub(m)))
+            .add(dropped_by_sum(m, self.applied, self.next))
             .to_array()
     }
+}
+
+/// What rounding `next = m + added` dropped: `added - (next - m)`, exact (Fast2Sum: `added`
+/// is the smaller term).
+#[inline(always)]
+fn dropped_by_sum<T: Real>(m: Vec3<T>, added: Vec3<T>, next: Vec3<T>) -> Vec3<T> {
+    added.sub(next.sub(m))
 }
 
 /// The explicit discrete Moser–Veselov step in closed form: the crate's flagship (order 2).
@@ -268,21 +275,11 @@ pub struct Mv<T> {
     /// [`HOLD_PERIOD`].
     phase: u8,
     /// What the rounding of the plain steps' `m + increment` and `q + turn` dropped (f32,
-    /// [`carries`]): added to the next step's increments while the caller leaves the state
-    /// alone, so that increments below an ulp are not lost (Fast2Sum, as the carried step's).
+    /// [`carries_rounding`]): added to the next step's increments while the caller leaves the
+    /// state alone, so that increments below an ulp are not lost (Fast2Sum, as the carried
+    /// step's).
     carry_m: Vec3<T>,
     carry_q: Quat<T>,
-}
-
-/// Whether the plain steps carry their own rounding ([`Mv::carry_m`]): in f32. There a step
-/// of a slowly turning body moves `m` and `q` by a few ulps, and rounding each step's sum
-/// lost a biased part of it: at 1.3e-3 rad/s and 1 kHz the attitude was 8.3e-3 rad and `m`
-/// 7.4e-3 off after `10^6` steps (`1000 s`), the invariants held all along (found by a
-/// firmware engineer's trial). In f64 the same costs about 1e-13 and is not carried. A
-/// constant for each type: the branches it decides are folded away.
-#[inline(always)]
-fn carries<T: Real>() -> bool {
-    T::EPSILON.to_f64() > 1e-10
 }
 
 /// A step with attitude renormalises `q` and turns it back onto the spatial momentum (about
@@ -291,13 +288,13 @@ fn carries<T: Real>() -> bool {
 /// a step, so between two holds `|q|` and `R(q) m` move by at most a few ulps, and the drift
 /// stays bounded (tests/soak.rs); a step never costs more than before.
 const HOLD_PERIOD: u8 = 8;
-/// In f32 (where the steps carry their rounding, [`carries`]) the attitude hold turns only
-/// when `|pi x pi0| / (2 |pi0|^2)`, half its angle, exceeds `sqrt(DEADBAND) eps = 4 eps`: below
+/// In f32 (where the steps carry their rounding, [`carries_rounding`]) the attitude hold turns
+/// only when `|pi x pi0| / (2 |pi0|^2)`, half its angle, exceeds `sqrt(DEADBAND) eps = 4 eps`: below
 /// that is the noise of computing `R(q) m` in f32, and turning by it at every hold drove the
 /// phase about `pi0` (8e-6 rad in `10^6` steps at 1.3e-3 rad/s and 1 kHz, 60x the carried
 /// steps' own error). `R(q) m` then stays within about `8 eps` of the trajectory's.
 const DEADBAND: f64 = 16.0;
-/// The plain f32 steps carry their rounding ([`carries`]) while the trajectory's
+/// The plain f32 steps carry their rounding ([`carries_rounding`]) while the trajectory's
 /// `(h |Omega|)^2` (taken with its invariants, [`Anchor::retake`]) is at most this: there a
 /// step moves `m` and `q` by few enough ulps that rounding loses a biased part of the
 /// motion. Above, rounding is unbiased, and carrying it measured worse in review (spacecraft
@@ -384,57 +381,37 @@ struct Anchor<T> {
 }
 
 /// The 2x2 solve of [`Anchor::correction`], or `None` where the Gram determinant is small.
+///
+/// The determinant's products `a_i a_k` are of order `alpha^2`, which leaves the normal range
+/// long before `alpha` does (f32 below `h |Omega|` of about `1e-10`: it went subnormal, its
+/// inverse overflowed, and a step at `h = 1e-9` returned `Overflow`, found in review): there
+/// every invariant is first divided by `alpha = sum a_i` (elsewhere the scale is one, and
+/// exact).
 #[cold]
 #[inline(never)]
 fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> Option<(T, T)> {
-    // the determinant's products a_i a_k are of order alpha^2, which leaves the normal range
-    // long before alpha does (f32 below h |Omega| of about 1e-10: it went subnormal, its
-    // inverse overflowed, and a step at h = 1e-9 returned Overflow, found in review)
-    if !(k.sum_a >= (T::MIN_POSITIVE / T::EPSILON).sqrt()) {
-        return energy_correction_in_units_of_alpha(k, t, da, db);
+    let scale = if k.sum_a >= (T::MIN_POSITIVE / T::EPSILON).sqrt() {
+        T::ONE
+    } else {
+        T::ONE / k.sum_a
+    };
+    if !scale.is_finite() {
+        return None;
     }
-    let a = k.a;
+    let a = k.a.scale(scale);
+    let (sum_a, beta, da, db) = (k.sum_a * scale, k.beta * scale, da * scale, db * scale);
     let j2 = t.j2;
     // formed here, out of line, not kept in the Track: a PreMv updates its body after every
     // outside change, and only this cold path needs them
     let (d12, d13, d23) = (sq(j2.x - j2.y), sq(j2.x - j2.z), sq(j2.y - j2.z));
     let det = a.x * a.y * d12 + a.x * a.z * d13 + a.y * a.z * d23;
     let gamma = a.dot(j2.mul_elem(j2));
-    if det > c::<T>(1e-3) * k.sum_a * gamma {
+    if det > c::<T>(1e-3) * sum_a * gamma {
         let inv = c::<T>(0.5) / det;
         Some((
-            (gamma * da - k.beta * db) * inv,
-            (k.sum_a * db - k.beta * da) * inv,
+            (gamma * da - beta * db) * inv,
+            (sum_a * db - beta * da) * inv,
         ))
-    } else {
-        None
-    }
-}
-
-/// [`energy_correction`] with every invariant divided by `alpha = sum a_i`, for an `alpha`
-/// whose square leaves the normal range (the Gram matrix is then `[[1, beta], [beta,
-/// gamma]]`).
-#[cold]
-#[inline(never)]
-fn energy_correction_in_units_of_alpha<T: Real>(
-    k: Invariants<T>,
-    t: &Track<T>,
-    da: T,
-    db: T,
-) -> Option<(T, T)> {
-    let to_unit = T::ONE / k.sum_a;
-    if !to_unit.is_finite() {
-        return None;
-    }
-    let a = k.a.scale(to_unit);
-    let (beta, da, db) = (k.beta * to_unit, da * to_unit, db * to_unit);
-    let j2 = t.j2;
-    let (d12, d13, d23) = (sq(j2.x - j2.y), sq(j2.x - j2.z), sq(j2.y - j2.z));
-    let det = a.x * a.y * d12 + a.x * a.z * d13 + a.y * a.z * d23;
-    let gamma = a.dot(j2.mul_elem(j2));
-    if det > c::<T>(1e-3) * gamma {
-        let inv = c::<T>(0.5) / det;
-        Some(((gamma * da - beta * db) * inv, (db - beta * da) * inv))
     } else {
         None
     }
@@ -510,7 +487,7 @@ impl<T: Real> Anchor<T> {
         turn_scale: Option<Vec3<T>>,
     ) {
         match turn_scale {
-            Some(ts) if carries::<T>() => {
+            Some(ts) if carries_rounding::<T>() => {
                 self.turn2_taken = c::<T>(16.0) * ts.mul_elem(m).norm2();
                 self.carry = self.turn2_taken <= c::<T>(CARRY_TURN2);
             }
@@ -568,7 +545,8 @@ impl<T: Real> Anchor<T> {
         };
         let (alpha, beta) = (self.taken.0 * r, self.beta_base * r);
         // (a zero or non-finite r turns the carry off)
-        self.carry = carries::<T>() && self.turn2_taken * r <= c::<T>(CARRY_TURN2) && r > T::ZERO;
+        self.carry =
+            carries_rounding::<T>() && self.turn2_taken * r <= c::<T>(CARRY_TURN2) && r > T::ZERO;
         let ok = alpha.is_finite() && beta.is_finite();
         self.alpha = if ok { alpha } else { T::ZERO };
         self.beta = if ok { beta } else { T::ZERO };
@@ -782,7 +760,10 @@ impl<T: Real> Mv<T> {
         }
         let half = pi.cross(sp.pi).scale(c::<T>(0.5));
         // ([`DEADBAND`]: in f32 a turn at the measurement's noise is not made)
-        if carries::<T>() && anchor.carry && !(half.norm2() > c::<T>(DEADBAND) * sq(T::EPSILON)) {
+        if carries_rounding::<T>()
+            && anchor.carry
+            && !(half.norm2() > c::<T>(DEADBAND) * sq(T::EPSILON))
+        {
             sp.last_q = q_next;
             return q_next;
         }
@@ -844,10 +825,23 @@ impl<T: Real> Mv<T> {
     /// carry while the caller left `m` and `q` as returned, else zero (always zero in f64).
     #[inline(always)]
     fn carried_turn(&self, (ours, m_ours): (bool, bool)) -> Quat<T> {
-        if carries::<T>() && ours && m_ours {
+        if carries_rounding::<T>() && ours && m_ours {
             self.carry_q
         } else {
             Quat::from_array([T::ZERO; 4])
+        }
+    }
+
+    /// Keeps what this plain step's attitude rounding dropped for the next step, where the
+    /// trajectory carries ([`Mv::carrying`]; nothing in f64).
+    #[inline(always)]
+    fn keep_turn_carry(&mut self, lost: Quat<T>) {
+        if carries_rounding::<T>() {
+            self.carry_q = if self.carrying() {
+                lost
+            } else {
+                Quat::from_array([T::ZERO; 4])
+            };
         }
     }
 
@@ -877,15 +871,9 @@ impl<T: Real> Mv<T> {
         let next = step.next;
         let (p, _) = self.rotation_between(v, next, step.increment)?;
         let lost = self.carried_turn(follows);
-        let (held, lost) = self.turn_attitude(follows, q, next, p, lost, carries::<T>());
+        let (held, lost) = self.turn_attitude(follows, q, next, p, lost, carries_rounding::<T>());
         write_state_stepped(s, next, held)?;
-        if carries::<T>() {
-            self.carry_q = if self.carrying() {
-                lost
-            } else {
-                Quat::from_array([T::ZERO; 4])
-            };
-        }
+        self.keep_turn_carry(lost);
         self.count_attitude_step();
         Ok(p)
     }
@@ -1202,7 +1190,7 @@ impl<T: Real> Mv<T> {
             None => increment,
         };
         // a plain step from its own last result adds what that step's rounding dropped
-        let sum = if carries::<T>() && plain && follows {
+        let sum = if carries_rounding::<T>() && plain && follows {
             applied.add(self.carry_m)
         } else {
             applied
@@ -1227,10 +1215,10 @@ impl<T: Real> Mv<T> {
         if let Some(a) = self.anchor.as_mut() {
             a.last = next;
         }
-        if carries::<T>() {
+        if carries_rounding::<T>() {
             // the carried step hands its rounding to the caller's carry instead
             self.carry_m = if plain && self.carrying() {
-                sum.sub(next.sub(m))
+                dropped_by_sum(m, sum, next)
             } else {
                 Vec3::new(T::ZERO, T::ZERO, T::ZERO)
             };
@@ -1262,7 +1250,7 @@ impl<T: Real> Mv<T> {
         let next = step.next;
         let (p, small) = self.rotation_between(v, next, step.increment)?;
         // the caller carries the rounding: a plain step after this one starts without
-        if carries::<T>() {
+        if carries_rounding::<T>() {
             self.carry_q = Quat::from_array([T::ZERO; 4]);
         }
         // an attitude that goes on from the last step's is renormalised every HOLD_PERIOD-th
@@ -1341,7 +1329,7 @@ impl<T: Real> Mv<T> {
             let increment = map.increment(m, T::ONE);
             (increment, increment)
         };
-        let sum = if carries::<T>() && plain {
+        let sum = if carries_rounding::<T>() && plain {
             applied.add(self.carry_m)
         } else {
             applied
@@ -1352,9 +1340,9 @@ impl<T: Real> Mv<T> {
         }
         a.count_unheld();
         a.last = next;
-        if carries::<T>() {
+        if carries_rounding::<T>() {
             self.carry_m = if plain && a.carry {
-                sum.sub(next.sub(m))
+                dropped_by_sum(m, sum, next)
             } else {
                 Vec3::new(T::ZERO, T::ZERO, T::ZERO)
             };
@@ -1796,7 +1784,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
         let next = step.next;
         let (p, small) = self.rotation_between(v, next, step.increment)?;
         let lost = self.carried_turn(follows);
-        let (held, lost) = self.turn_attitude(follows, q, next, p, lost, carries::<T>());
+        let (held, lost) = self.turn_attitude(follows, q, next, p, lost, carries_rounding::<T>());
         if small {
             // a finite unit q turned by a finite p within 1e-4 of one: finite (and a
             // hold that is not is dropped), so the check is skipped
@@ -1805,13 +1793,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
         } else {
             write_state_stepped(s, next, held)?;
         }
-        if carries::<T>() {
-            self.carry_q = if self.carrying() {
-                lost
-            } else {
-                Quat::from_array([T::ZERO; 4])
-            };
-        }
+        self.keep_turn_carry(lost);
         self.count_attitude_step();
         Ok(())
     }
@@ -1863,7 +1845,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
                 if let Some(a) = self.anchor.as_mut() {
                     let carried = a.carry;
                     a.rescale(hn);
-                    if carries::<T>() && carried && !a.carry {
+                    if carries_rounding::<T>() && carried && !a.carry {
                         self.carry_m = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
                         self.carry_q = Quat::from_array([T::ZERO; 4]);
                     }

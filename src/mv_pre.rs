@@ -333,9 +333,10 @@ impl<T: Real> Integrator<T> for PreMv<T> {
         self.h
     }
 
-    /// A zero `h` changes nothing: the steps leave the state as it is, and the trajectory
-    /// goes on with the last non-zero `h` (as [`Mv`]'s; taken as a change of `h`, zero ticks
-    /// let the invariants random-walk).
+    /// A zero `h` pauses the steps (they leave the state as it is; `PreMv::pause`), and the
+    /// next non-zero `h` updates the modified body as any change of `h` does, the trajectory's
+    /// invariants kept (as [`Mv`]'s; taken as a change of `h`, zero ticks let the invariants
+    /// random-walk). The same `h` as before changes nothing.
     fn set_step_size(&mut self, h: T) {
         // the same h changes nothing (a loop that sets a measured dt every tick)
         if h == self.h {
