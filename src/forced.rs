@@ -220,7 +220,8 @@ pub(crate) struct Forcing<T, F> {
     /// ([`kick`]). Kept when the caller changes `m` or `q` (a filter's correction): it is
     /// torque impulse that acted and round-off of the motion, below an ulp of the state (a
     /// caller's sign flip of `q` applies the attitude's part once with the wrong sign, about
-    /// two ulps); dropped by `reset`.
+    /// two ulps); dropped by `reset`, and in f32 by a free body's step (the torque stopped:
+    /// [`coasts_uncarried`]).
     pub(crate) lost: State<T>,
 }
 
@@ -497,6 +498,21 @@ macro_rules! forcing_accessors {
 }
 pub(crate) use forcing_accessors;
 
+/// Whether a step without carry drops the carry it was handed (after applying it in its
+/// kicks): in f32 ([`carries_rounding`]), where `carry` is false only for a free body (no
+/// torque, no rotor turning the state). The part of the last torque's impulse below half an
+/// ulp of `m` is then lost once, where keeping it re-added the same fraction of an ulp at
+/// every kick of the coast: whenever it rounded into `m` (a component crossing a power of
+/// two), the drift saw an outside change and took its invariants again from a rounded
+/// momentum. After 1000 steps of a small torque on the spacecraft at 0.1 rad/s and 200 Hz,
+/// `10^6` coasting f32 steps ended 1.7e-4 rad from f64, a fresh `Mv` from the same state
+/// 1.1e-5 (tests/forced.rs `a_coast_after_a_torque_drifts_as_a_free_body`). In f64 the carry
+/// is the kicks' alone and is kept.
+#[inline(always)]
+fn coasts_uncarried<T: Real>(carry: bool) -> bool {
+    carries_rounding::<T>() && !carry
+}
+
 /// A state after a forced step, and the torque at its end (the next step's start torque).
 type Kicked<T> = (Vec3<T>, Quat<T>, Vec3<T>);
 
@@ -557,8 +573,13 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
             StepError::NonFinite
         });
     }
-    // only on success: a caller may pass its own carry in place
-    *lost = State::new(lost1.to_array(), lost_q.to_array());
+    // only on success: a caller may pass its own carry in place. A free body's step in f32
+    // drops it (after a torque stops: [`coasts_uncarried`])
+    *lost = if coasts_uncarried::<T>(carry) {
+        State::new([T::ZERO; 3], [T::ZERO; 4])
+    } else {
+        State::new(lost1.to_array(), lost_q.to_array())
+    };
     Ok((m, q, tau1))
 }
 
@@ -599,7 +620,13 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
         (m, pending) = turn_momentum(p, m, pending, carry);
     }
     let (m, lost1) = kick(m, tau1.scale(half).add(lost0));
-    *lost = if carry { lost1.add(pending) } else { lost1 };
+    *lost = if carry {
+        lost1.add(pending)
+    } else if coasts_uncarried::<T>(carry) {
+        Vec3::new(T::ZERO, T::ZERO, T::ZERO)
+    } else {
+        lost1
+    };
     if m.is_finite() {
         Ok(m)
     } else {

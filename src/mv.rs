@@ -1249,9 +1249,11 @@ impl<T: Real> Mv<T> {
         };
         let next = step.next;
         let (p, small) = self.rotation_between(v, next, step.increment)?;
-        // the caller carries the rounding: a plain step after this one starts without
+        // the caller carries the rounding: a plain step after this one starts without, and
+        // takes the invariants again with the test of whether it carries its own
         if carries_rounding::<T>() {
             self.carry_q = Quat::from_array([T::ZERO; 4]);
+            self.retake = true;
         }
         // an attitude that goes on from the last step's is renormalised every HOLD_PERIOD-th
         // step, as in step_state (every step cost the soft-float build 1776 instructions; on
@@ -1769,6 +1771,8 @@ impl<T: Real> Integrator<T> for Mv<T> {
         };
         if carry {
             *lost = step.carry_into(v, *lost);
+            // as step_state_carry
+            self.retake = true;
         }
         *m = step.next.to_array();
         Ok(())
@@ -1992,6 +1996,10 @@ mod tests {
             let hw2 = (h * h * w.norm2()) as f64;
             let mut mv = Mv::new(body, h);
             let mut s = State::new(m0, [1.0, 0.0, 0.0, 0.0]);
+            // a carried (forced) step first: the plain steps after it take the test again
+            let mut lost = State::new([0.0; 3], [0.0; 4]);
+            mv.step_state_carrying(&mut s, &mut lost, true).unwrap();
+            assert!(!mv.anchor.as_ref().unwrap().carry);
             for _ in 0..100 {
                 mv.step_state(&mut s).unwrap();
             }
