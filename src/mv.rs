@@ -371,10 +371,21 @@ struct Anchor<T> {
     /// Free-running steps since the last one that moved its input back onto the invariants
     /// (`0` = the next one does): see [`Mv::advance_frozen`].
     unheld: u8,
-    /// `(h |Omega|)^2` when the invariants were taken (rescaled with them), and whether the
-    /// plain f32 steps carry their rounding on this trajectory ([`CARRY_TURN2`]).
+    /// `(h |Omega|)^2` when the invariants were taken, and whether the plain f32 steps carry
+    /// their rounding on this trajectory at the current `h` ([`CARRY_TURN2`]).
     turn2_taken: T,
     carry: bool,
+    /// A change of `h` since the invariants were last scaled to the current `h`: `alpha`,
+    /// `beta`, `beta_tol` and `half_inv` are stale until [`Anchor::settle`], which the steps
+    /// that read them call (a hold, the free-running map's build). Under a jittering clock a
+    /// hold comes every [`HOLD_PERIOD`]-th step, so the other steps do not rescale (two
+    /// divisions; 36 of the 634 instructions of the M4F's jittered step when every change
+    /// rescaled). `turn2` follows the changes meanwhile (multiplied by each change's ratio:
+    /// it only sets `carry`, and each settle takes it afresh from `turn2_taken`). A byte, not
+    /// a `bool`: a second `bool` moved the niche of `Option<Anchor>` and the free-running
+    /// step's test of `carry` took 3 instructions more on the M4F.
+    stale: u8,
+    turn2: T,
     /// With attitude: the spatial momentum of the trajectory (`pi0 = R(q) m` as taken, then
     /// `pi0 / |pi0|^2` once a step needs it) and the attitude returned last.
     spatial: Option<Spatial<T>>,
@@ -461,6 +472,8 @@ impl<T: Real> Anchor<T> {
             unheld: 0,
             turn2_taken: T::ZERO,
             carry: false,
+            stale: 0,
+            turn2: T::ZERO,
             spatial: None,
         };
         a.retake(m, k, hn, kappa, turn_scale);
@@ -496,6 +509,8 @@ impl<T: Real> Anchor<T> {
                 self.carry = false;
             }
         }
+        self.turn2 = self.turn2_taken;
+        self.stale = 0;
         self.last = m;
         self.alpha = k.sum_a;
         self.beta = k.beta;
@@ -545,8 +560,9 @@ impl<T: Real> Anchor<T> {
         };
         let (alpha, beta) = (self.taken.0 * r, self.beta_base * r);
         // (a zero or non-finite r turns the carry off)
-        self.carry =
-            carries_rounding::<T>() && self.turn2_taken * r <= c::<T>(CARRY_TURN2) && r > T::ZERO;
+        self.turn2 = self.turn2_taken * r;
+        self.carry = carries_rounding::<T>() && self.turn2 <= c::<T>(CARRY_TURN2) && r > T::ZERO;
+        self.stale = 0;
         let ok = alpha.is_finite() && beta.is_finite();
         self.alpha = if ok { alpha } else { T::ZERO };
         self.beta = if ok { beta } else { T::ZERO };
@@ -558,6 +574,24 @@ impl<T: Real> Anchor<T> {
         } else {
             T::ZERO
         };
+    }
+
+    /// The invariants scaled to the current `hn` if a change of `h` left them stale
+    /// ([`Anchor::stale`]).
+    #[inline(always)]
+    fn settle(&mut self, hn: T) {
+        if self.stale != 0 {
+            self.rescale(hn);
+        }
+    }
+
+    /// A change of `h` by `r2 = (h / h_old)^2` within the tracked root's range: the carry's
+    /// test follows now, the invariants when a step reads them ([`Anchor::settle`]).
+    #[inline(always)]
+    fn rescale_later(&mut self, r2: T) {
+        self.stale = 1;
+        self.turn2 *= r2;
+        self.carry = carries_rounding::<T>() && self.turn2 <= c::<T>(CARRY_TURN2);
     }
 
     /// The correction towards the trajectory's invariants carried to the scaled step `t.hn`
@@ -577,7 +611,8 @@ impl<T: Real> Anchor<T> {
         // (h |Omega|)^2 is in unscaled units: the re-solve's scale enters with h
         if self.carry {
             let r = sq(t.hn / self.hn0 * (t.kappa / self.kappa0));
-            self.carry = self.turn2_taken * r <= c::<T>(CARRY_TURN2);
+            self.turn2 = self.turn2_taken * r;
+            self.carry = self.turn2 <= c::<T>(CARRY_TURN2);
         }
         // invariants taken at a step so small that they lost digits cannot be carried
         // (the carried correction moved m by up to its size, and the step was refused as
@@ -1121,6 +1156,7 @@ impl<T: Real> Mv<T> {
             }
             Some(a) if follows && !resynced && !self.retake => {
                 a.unheld = 1;
+                a.settle(t.hn);
                 target = a.alpha;
                 Some(a.correction(k.invariants(), t))
             }
@@ -1295,6 +1331,7 @@ impl<T: Real> Mv<T> {
             if !(m.norm2() >= T::MIN_POSITIVE / T::EPSILON) {
                 return None;
             }
+            a.settle(t.hn);
             match FrozenMap::new(t.j, t.c0, t.s0, t.delta, t.hn, a.alpha) {
                 Some(map) => self.frozen = Some(map),
                 None => {
@@ -1848,7 +1885,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
                 t.delta *= r2;
                 if let Some(a) = self.anchor.as_mut() {
                     let carried = a.carry;
-                    a.rescale(hn);
+                    a.rescale_later(r2);
                     if carries_rounding::<T>() && carried && !a.carry {
                         self.carry_m = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
                         self.carry_q = Quat::from_array([T::ZERO; 4]);
