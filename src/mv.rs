@@ -551,7 +551,9 @@ impl<T: Real> Anchor<T> {
 
     /// The same invariants for the scaled step `hn`, in place (the spatial reference is
     /// kept: it does not depend on `h`; the scale `kappa` is the one of the last
-    /// [`Anchor::retake`] or [`Anchor::carried_correction`]).
+    /// [`Anchor::retake`] or [`Anchor::carried_correction`]). Out of line: inlined at the
+    /// two sites that settle stale invariants it grew the M4F build by 584 bytes.
+    #[inline(never)]
     fn rescale(&mut self, hn: T) {
         let r = if self.hn0 != T::ZERO {
             sq(hn / self.hn0)
