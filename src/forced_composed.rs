@@ -286,6 +286,15 @@ fn stage<'a, T: Copy, D>(
 /// potential torque and a symplectic drift, is symplectic. Errors at `T = 10` on the forced
 /// scenes are in the README's work-precision tables.
 ///
+/// In f32 without a torque (a free body or gyrostat composed to order 4 or 6), every stage's
+/// drift solves its 3x3 system from the last stage's result, and that solve's relative
+/// error (about `eps`, not a rounding of a sum) is not carried: on the spacecraft
+/// `I = (60, 95, 120)` at 0.1 rad/s and 200 Hz the attitude ends 5.5e-5 rad (order 4) and
+/// 1.2e-4 (order 6) from f64 after `10^6` steps, where the free `Mv` ends 1.5e-5 (the
+/// scene's sensitivity to one ulp of `m`: 1.5e-6); at 1 rad/s 3.1e-4 and 6.2e-4 against
+/// 9.3e-5; at 1.3e-3 rad/s and 1 kHz all three end within 6e-8. For the free body in f32
+/// use `Mv`.
+///
 /// A step that fails returns `Err` and leaves the state and the time untouched.
 #[derive(Clone, Debug)]
 pub struct Composed<T, D, F> {
