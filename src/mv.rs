@@ -882,6 +882,17 @@ impl<T: Real> Mv<T> {
         }
     }
 
+    /// After a momentum-only step: the attitude did not move with `m`, so a step with attitude
+    /// after it takes its `q` as the caller's (a new spatial reference, no carried turn).
+    /// Kept, the hold turned `q` onto `R(q) m` of an attitude that had not been stepped: a
+    /// jump of 8.4e-2 rad (found in review, `step` between `step_state` calls).
+    #[inline(always)]
+    fn forget_attitude(&mut self) {
+        if let Some(a) = self.anchor.as_mut() {
+            a.spatial = None;
+        }
+    }
+
     /// Counts a successful step with attitude towards the next full one.
     #[inline(always)]
     fn count_attitude_step(&mut self) {
@@ -1438,15 +1449,36 @@ impl<T: Real> Mv<T> {
     }
 
     /// A step [`Mv::advance`] refused with `e`: `Ok` (nothing done) for a step of size zero,
-    /// else `Err(e)` (the state untouched).
+    /// else `Err(e)` (the state untouched, the trajectory forgotten: [`Mv::failed`]).
     #[cold]
     #[inline(never)]
-    fn refused(&self, e: StepError) -> Result<(), StepError> {
+    fn refused(&mut self, e: StepError) -> Result<(), StepError> {
         if self.h == T::ZERO {
             Ok(())
         } else {
-            Err(e)
+            Err(self.failed(e))
         }
+    }
+
+    /// A failed step forgets the trajectory (tracked root, anchored invariants, carries): the
+    /// step may have re-solved the root or re-taken the invariants for the input it then
+    /// refused, and kept, they made the next step from the caller's unchanged state another
+    /// one (found in review: on a needle, `Err(Degenerate)` and then the identical call `Ok`
+    /// with `|m|^2` 1.1e-2 off; through `PreMv`, a refused momentum `1e8` times too large
+    /// left every later step `StepTooLarge`). The next step starts afresh from its input, as
+    /// a new integrator would. (A step refused after `advance` succeeded, by the turn or the
+    /// state check, needs none of this: `advance` moved the anchor on to its result, so the
+    /// caller's unchanged state is an outside change for the next step, re-taken as it is.)
+    #[cold]
+    #[inline(never)]
+    fn failed(&mut self, e: StepError) -> StepError {
+        self.track = None;
+        self.anchor = None;
+        self.frozen = None;
+        self.recheck = true;
+        self.carry_m = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        self.carry_q = Quat::from_array([T::ZERO; 4]);
+        e
     }
 
     /// Stops the rational map on this trajectory (see [`Mv::no_map`]).
@@ -1790,6 +1822,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
             Ok(step) => step.next,
             Err(e) => return self.refused(e),
         };
+        self.forget_attitude();
         *m = next.to_array();
         Ok(())
     }
@@ -1813,6 +1846,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
             // as step_state_carry
             self.retake = true;
         }
+        self.forget_attitude();
         *m = step.next.to_array();
         Ok(())
     }

@@ -380,3 +380,44 @@ fn f32_overflow_and_underflow_ranges() {
         );
     }
 }
+
+/// Every solution of the midpoint equation keeps `|m|^2`, so `Midpoint` returns either such a
+/// step or `NoConvergence`. Found in review (sequence fuzz): an f32 rod at `h |Omega|` near
+/// 0.6, where the second step returned `Ok` with `|m|^2` from 1 to 1.4e15, and an f64 body at
+/// `|m| = 3e32` that returned `Ok` with `|m| = 3e144` (the stopping test, relative to a huge
+/// iterate, passed far from a solution).
+#[test]
+fn midpoint_returns_a_step_on_the_sphere_or_refuses() {
+    let b = Body::<f32>::from_inertia([638009262u32, 638009262, 347918688].map(f32::from_bits))
+        .unwrap();
+    let mut mp = Midpoint::new(b, f32::from_bits(0xa5a48243));
+    let mut m = [3212836864u32, 0, 737149621].map(f32::from_bits);
+    for _ in 0..4 {
+        let before: f32 = m.iter().map(|x| x * x).sum();
+        if mp.step(&mut m).is_ok() {
+            let after: f32 = m.iter().map(|x| x * x).sum();
+            assert!((after / before - 1.0).abs() <= 1e-3, "{before} -> {after}");
+        }
+    }
+    let body = Body::<f64>::from_inertia([
+        2.0747997663578403e-19,
+        2.0747997663578403e-19,
+        2.658895115938342e-19,
+    ])
+    .unwrap();
+    let m0 = [
+        2.8886487121614455e32,
+        2251799813685246.5,
+        -1.0832664150696278e32,
+    ];
+    let mut m = m0;
+    if Midpoint::new(body, 2.6387573945321377e-5)
+        .step(&mut m)
+        .is_ok()
+    {
+        let n = |v: [f64; 3]| v.iter().map(|x| (x / 1e32).powi(2)).sum::<f64>();
+        assert!((n(m) / n(m0) - 1.0).abs() <= 1e-8);
+    } else {
+        assert_eq!(m, m0);
+    }
+}

@@ -351,3 +351,43 @@ fn a_correction_during_a_pause_is_taken() {
         );
     }
 }
+
+/// A momentum-only step (`step`) between steps with attitude: the attitude did not move with
+/// `m`, and the next step with attitude starts from the caller's `q` as it is. Before (found
+/// by a sequence fuzz), `Mv` took the pair as its own trajectory and its every-8th-step hold
+/// turned `q` onto the spatial momentum of an attitude that had not been stepped (8.4e-2 rad
+/// in one step). Oracle: a fresh integrator taking the same step from the same state.
+#[test]
+fn a_momentum_only_step_between_attitude_steps_moves_no_attitude() {
+    let body = talk();
+    let mut worst = 0.0f64;
+    for pre in [false, true] {
+        for k_momentum in 0..8 {
+            let mut a: Box<dyn Integrator<f64>> = if pre {
+                Box::new(PreMv::new(body, 0.05, 4).unwrap())
+            } else {
+                Box::new(Mv::new(body, 0.05))
+            };
+            let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+            for k in 0..24 {
+                if k == 8 + k_momentum {
+                    a.step(&mut s.m).unwrap();
+                    continue;
+                }
+                let mut fresh_state = s;
+                if pre {
+                    PreMv::new(body, 0.05, 4)
+                        .unwrap()
+                        .step_state(&mut fresh_state)
+                        .unwrap();
+                } else {
+                    Mv::new(body, 0.05).step_state(&mut fresh_state).unwrap();
+                }
+                a.step_state(&mut s).unwrap();
+                worst = worst.max(qdist(s.q, fresh_state.q));
+            }
+        }
+    }
+    println!("largest attitude difference from a fresh integrator: {worst:.1e}");
+    assert!(worst <= 1e-12, "{worst:e}");
+}
