@@ -308,8 +308,9 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// random-walked to `1.7e-3` after `10^6` steps and `2e-2` after `10^8` with a wheel of
     /// `0.01 N m s` (found in review; `3e-7` without a rotor). A gyrostat conserves `R(q) m`
     /// exactly (the wheels' momentum is inside `m`), so this removes round-off only. The
-    /// reference is `R(q_in) m_in` whenever `(m_in, q_in)` is not the state returned last (the
-    /// caller changed it); with a torque nothing is done and the reference is dropped.
+    /// reference is taken again, from this step's result, whenever `(m_in, q_in)` is not the
+    /// state returned last (the caller changed it); with a torque nothing is done and the
+    /// reference is dropped. Called only where the step does not carry its rounding (f64).
     #[inline]
     pub(crate) fn hold_spatial(
         &mut self,
@@ -325,7 +326,10 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         let sp = match self.spatial.as_mut() {
             Some(sp) if sp.m == m_in && sp.q == q_in => sp,
             _ => {
-                let pi = q_in.rotate(m_in);
+                // from the step's result, not the caller's state: the drift renormalised the
+                // attitude (a caller's q unit only to f32 precision moved the f64 reference,
+                // and every later hold, by 7.3e-9: found in review)
+                let pi = q_out.rotate(m_out);
                 let n2 = pi.norm2();
                 let pi = if n2 > T::ZERO && n2.is_finite() {
                     pi.scale(T::ONE / n2)

@@ -10,6 +10,13 @@ use crate::real::Real;
 /// `m` is the angular momentum in the body frame; `q = (w, x, y, z)` is the unit quaternion
 /// that maps body to space (`x_space = R(q) x_body`), so the spatial momentum `R(q) m` is
 /// constant under the free motion.
+///
+/// A step takes `q` as it is while `|q|` is within `2^-10` of one (renormalising a unit
+/// quaternion every step would turn it by about an ulp each time), and normalises it beyond.
+/// A `q` that is off unit length by `d` within that band costs a relative error of about `d`
+/// in the step's turn in some methods (`Exact`, `Orbit`, `Mv`, `PreMv`, `Midpoint`: 1.75e-6
+/// rad on a 4.4e-3 rad step at `d = 4e-4`, found in review); a caller who builds `q` from
+/// measurements should normalise it (`Quaternion::normalize`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct State<T> {
