@@ -61,16 +61,6 @@ pub struct PreMv<T> {
     modified_inv: Option<[T; 3]>,
 }
 
-/// `expr`'s value, or from the enclosing step `Err` after [`PreMv::failed`].
-macro_rules! or_forget {
-    ($pre:ident, $e:expr) => {
-        match $e {
-            Ok(v) => v,
-            Err(e) => return Err($pre.failed(e)),
-        }
-    };
-}
-
 impl<T: Real> PreMv<T> {
     /// A preprocessed DMV integrator of `order`: 2 (plain DMV), 4, 6, 8 or 10 (the orders of
     /// the Hairer–Vilmart modified moments, docs/MATH.md §5).
@@ -126,19 +116,6 @@ impl<T: Real> PreMv<T> {
     /// tracking still apply).
     pub(crate) fn follows(&self, m: &[T; 3]) -> bool {
         matches!(&self.last, Some(l) if same3(l, m))
-    }
-
-    /// A failed step: the next one takes its input as an outside change (the modified body
-    /// is built again for it; the inner `Mv` forgets its trajectory too). The failed step may
-    /// have rebuilt the modified body for the input it then refused, and kept, that body
-    /// stepped the caller's unchanged state as another trajectory (found in review: after a
-    /// refused non-finite attitude, `|m|^2` 7.4e-3 off at the next change of `h`; after a
-    /// refused momentum `1e8` times too large, every later step `StepTooLarge`).
-    #[cold]
-    #[inline(never)]
-    fn failed(&mut self, e: StepError) -> StepError {
-        self.last = None;
-        e
     }
 
     /// Makes `self.mv` the `Mv` of this trajectory: kept while `m` is the momentum returned
@@ -253,6 +230,12 @@ impl<T: Real> PreMv<T> {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
+        // until the step succeeds (which sets it), the body built here is for `m` alone: a
+        // step refused after this leaves the next one to build it again for its own input
+        // (kept, a refused momentum's body stepped the caller's unchanged state, found in
+        // review: `|m|^2` 7.4e-3 off after a refused zero attitude and a change of `h`, and
+        // every step `StepTooLarge` after a refused momentum `1e8` times too large)
+        self.last = None;
         if self.h == T::ZERO {
             // the caller changed the state during a pause: the Mv forgets the trajectory
             // (its spatial reference too), as a step would after such a change (kept, the
@@ -296,12 +279,12 @@ impl<T: Real> PreMv<T> {
 
 impl<T: Real> Integrator<T> for PreMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
-        match or_forget!(self, self.prepare(m)) {
+        match self.prepare(m)? {
             // Mv leaves its input as it was on Err
-            None => or_forget!(self, self.mv.step(m)),
+            None => self.mv.step(m)?,
             Some(held) => {
                 let mut next = held;
-                or_forget!(self, self.mv.step(&mut next));
+                self.mv.step(&mut next)?;
                 *m = next;
             }
         }
@@ -326,11 +309,11 @@ impl<T: Real> Integrator<T> for PreMv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         // in place when the momentum needs no hold: a copy of the state in and out cost
         // the host's f32 step 4 ns in 25
-        match or_forget!(self, self.prepare(&s.m)) {
-            None => or_forget!(self, self.mv.step_state(s)),
+        match self.prepare(&s.m)? {
+            None => self.mv.step_state(s)?,
             Some(held) => {
                 let mut next = State::new(held, s.q);
-                or_forget!(self, self.mv.step_state(&mut next));
+                self.mv.step_state(&mut next)?;
                 *s = next;
             }
         }
@@ -662,12 +645,12 @@ fn reciprocals<T: Real>([x, y, z]: [T; 3]) -> [T; 3] {
 impl<T: Real> PreMv<T> {
     /// The carried step ([`Integrator::step_carrying`]) through `Mv`'s.
     fn step_carried(&mut self, m: &mut [T; 3], lost: &mut [T; 3]) -> Result<(), StepError> {
-        let mut next = match or_forget!(self, self.prepare(m)) {
+        let mut next = match self.prepare(m)? {
             None => *m,
             Some(held) => held,
         };
         // Mv leaves its input and `lost` as they were on Err
-        or_forget!(self, self.mv.step_carrying(&mut next, lost, true));
+        self.mv.step_carrying(&mut next, lost, true)?;
         *m = next;
         self.last = Some(*m);
         self.h_changed = false;
@@ -680,11 +663,11 @@ impl<T: Real> PreMv<T> {
         s: &mut State<T>,
         lost: &mut State<T>,
     ) -> Result<(), StepError> {
-        let mut next = match or_forget!(self, self.prepare(&s.m)) {
+        let mut next = match self.prepare(&s.m)? {
             None => *s,
             Some(held) => State::new(held, s.q),
         };
-        or_forget!(self, self.mv.step_state_carrying(&mut next, lost, true));
+        self.mv.step_state_carrying(&mut next, lost, true)?;
         *s = next;
         self.last = Some(s.m);
         self.h_changed = false;
@@ -698,11 +681,11 @@ impl<T: Real> PreMv<T> {
         &mut self,
         s: &mut State<T>,
     ) -> Result<(Quat<T>, Vec3<T>), StepError> {
-        let p = match or_forget!(self, self.prepare(&s.m)) {
-            None => or_forget!(self, self.mv.step_state_rotation(s)),
+        let p = match self.prepare(&s.m)? {
+            None => self.mv.step_state_rotation(s)?,
             Some(held) => {
                 let mut next = State::new(held, s.q);
-                let p = or_forget!(self, self.mv.step_state_rotation(&mut next));
+                let p = self.mv.step_state_rotation(&mut next)?;
                 *s = next;
                 p
             }

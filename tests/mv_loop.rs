@@ -391,3 +391,35 @@ fn a_momentum_only_step_between_attitude_steps_moves_no_attitude() {
     println!("largest attitude difference from a fresh integrator: {worst:.1e}");
     assert!(worst <= 1e-12, "{worst:e}");
 }
+
+/// `reset` makes an `Mv` (and a `PreMv`) step on as a new one with its body and `h`, bit for
+/// bit. Before (found in review), it kept the count of steps to the next full attitude step,
+/// so a reset integrator held its attitude at other steps than a new one.
+#[test]
+fn a_reset_integrator_steps_as_a_new_one() {
+    let body = talk();
+    for pre in [false, true] {
+        for before in [1, 3, 5, 7, 8] {
+            let make = || -> Box<dyn Integrator<f64>> {
+                if pre {
+                    Box::new(PreMv::new(body, 0.05, 4).unwrap())
+                } else {
+                    Box::new(Mv::new(body, 0.05))
+                }
+            };
+            let mut a = make();
+            let mut s = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+            for _ in 0..before {
+                a.step_state(&mut s).unwrap();
+            }
+            a.reset();
+            let mut fresh = make();
+            let mut t = s;
+            for _ in 0..10_000 {
+                a.step_state(&mut s).unwrap();
+                fresh.step_state(&mut t).unwrap();
+            }
+            assert_eq!(s, t, "pre {pre}, {before} steps before the reset");
+        }
+    }
+}
