@@ -139,24 +139,20 @@ fn a_refusal_that_changed_nothing_leaves_the_next_steps_as_they_were() {
     ];
     for (name, make) in makers {
         for (refusal, pause) in [("large h", false), ("large h", true), ("nan q", false)] {
-            let mut a = make(body);
-            let mut s = start;
-            for _ in 0..10 {
-                a.step_state(&mut s).unwrap();
-            }
-            if pause {
-                a.set_step_size(0.0);
-                a.step_state(&mut s).unwrap();
-            }
-            let mut twin = make(body);
-            let mut t = start;
-            for _ in 0..10 {
-                twin.step_state(&mut t).unwrap();
-            }
-            if pause {
-                twin.set_step_size(0.0);
-                twin.step_state(&mut t).unwrap();
-            }
+            // ten steps, and a paused one
+            let started = || {
+                let mut a = make(body);
+                let mut s = start;
+                for _ in 0..10 {
+                    a.step_state(&mut s).unwrap();
+                }
+                if pause {
+                    a.set_step_size(0.0);
+                    a.step_state(&mut s).unwrap();
+                }
+                (a, s)
+            };
+            let ((mut a, mut s), (mut twin, mut t)) = (started(), started());
             assert_eq!(s, t, "{name}: the twins start apart");
             if refusal == "large h" {
                 // the twin is told the same step sizes and takes no step with the large one
