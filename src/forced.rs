@@ -236,7 +236,8 @@ pub(crate) struct Forcing<T, F> {
     /// ([`kick`]). Kept when the caller changes `m` or `q` (a filter's correction): it is
     /// torque impulse that acted and round-off of the motion, below an ulp of the state (a
     /// caller's sign flip of `q` applies the attitude's part once with the wrong sign, about
-    /// two ulps); dropped by `reset`.
+    /// two ulps), unless it is not below a few ulps of the caller's new `m` ([`carried_for`]);
+    /// dropped by `reset`.
     pub(crate) lost: State<T>,
     /// A torque has acted or the rotor has turned the state since the integrator was made or
     /// reset: from then on every step carries the state's rounding in f32, torque or not

@@ -83,7 +83,8 @@ impl<T: Real> Torque<T> for NoTorque {
 /// A constant body-frame torque (a thruster or magnetorquer command held over the step).
 /// Exact (no arithmetic). Not conservative, so it has no potential, except the zero torque:
 /// its potential is zero and it is [`Torque::is_zero`], so a sum with it keeps the other
-/// part's total energy and a torque-free step with a rotor holds `|m|^2` and `R(q) m`.
+/// part's total energy and a torque-free step with a rotor holds `|m|^2` and `R(q) m` (in f64;
+/// in f32 it carries the state's rounding instead, [`crate::Forced`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ConstantTorque<T>(pub [T; 3]);
