@@ -230,23 +230,30 @@ impl<T: Real> PreMv<T> {
     #[cold]
     #[inline(never)]
     fn rebuild(&mut self, m: &[T; 3], from: Option<[T; 3]>) -> Result<(), StepError> {
-        // until the step succeeds (which sets it), the body built here is for `m` alone: a
-        // step refused after this leaves the next one to build it again for its own input
-        // (kept, a refused momentum's body stepped the caller's unchanged state, found in
-        // review: `|m|^2` 7.4e-3 off after a refused zero attitude and a change of `h`, and
-        // every step `StepTooLarge` after a refused momentum `1e8` times too large)
-        self.last = None;
         if self.h == T::ZERO {
             // the caller changed the state during a pause: the Mv forgets the trajectory
             // (its spatial reference too), as a step would after such a change (kept, the
             // next hold turned the attitude back onto the old `R(q) m`: 1.3e-2 rad after a
-            // 1e-2 correction, found in review); the body is rebuilt at the next step
+            // 1e-2 correction, found in review); the body is rebuilt at the next step. A
+            // non-finite momentum is refused first, with nothing forgotten (the reset forgot
+            // the paused trajectory for an input the Mv then refused: f32 `|m|^2`
+            // random-walked to 2.1e-5 with one every 7th tick, found in review)
+            if !m.iter().all(|x| x.is_finite()) {
+                return Err(StepError::NonFinite);
+            }
+            self.last = None;
             self.pause();
             self.mv.reset();
             return Ok(());
         }
         // m and h are checked by the modifier (NonFinite there)
         let inv = self.modifier.modified_inverse(self.h, m)?;
+        // until the step succeeds (which sets it), the body built here is for `m` alone: a
+        // step refused after this leaves the next one to build it again for its own input
+        // (kept, a refused momentum's body stepped the caller's unchanged state, found in
+        // review: `|m|^2` 7.4e-3 off after a refused zero attitude and a change of `h`, and
+        // every step `StepTooLarge` after a refused momentum `1e8` times too large)
+        self.last = None;
         self.rebuild_with(inv, from)
     }
 

@@ -173,24 +173,45 @@ fn a_refusal_that_changed_nothing_leaves_the_next_steps_as_they_were() {
             assert_eq!(s, t, "{name}, {refusal}, pause {pause}");
         }
     }
-    // f32: a refused h every 7th tick, 2 x 10^5 ticks
+    // f32, 2 x 10^5 ticks with a refusal every 7th: a large h (StepTooLarge), h = f32::MAX
+    // (Overflow of the re-solve's scale, also refused before anything changed), a non-finite
+    // momentum during a pause (PreMv)
     let body = Body::<f32>::from_inertia([60.0, 95.0, 120.0]).unwrap();
-    let mut mv = Mv::new(body, 0.005f32);
-    let mut s = State::new([0.6f32, -0.95, 1.2], [1.0, 0.0, 0.0, 0.0]);
-    let c0: f64 = s.m.iter().map(|&x| (x as f64).powi(2)).sum();
-    let mut worst = 0.0f64;
-    for k in 0..200_000 {
-        if k % 7 == 0 {
-            mv.set_step_size(1e6);
-            assert!(mv.step_state(&mut s.clone()).is_err());
-            mv.set_step_size(0.005);
+    for (kind, pre) in [
+        ("1e6", false),
+        ("max", false),
+        ("1e6", true),
+        ("nan paused", true),
+    ] {
+        let mut a: Box<dyn Integrator<f32>> = if pre {
+            Box::new(PreMv::new(body, 0.005f32, 4).unwrap())
+        } else {
+            Box::new(Mv::new(body, 0.005f32))
+        };
+        let mut s = State::new([0.6f32, -0.95, 1.2], [1.0, 0.0, 0.0, 0.0]);
+        let c0: f64 = s.m.iter().map(|&x| (x as f64).powi(2)).sum();
+        let mut worst = 0.0f64;
+        for k in 0..200_000 {
+            if k % 7 == 0 {
+                let mut bad = s;
+                match kind {
+                    "1e6" => a.set_step_size(1e6),
+                    "max" => a.set_step_size(f32::MAX),
+                    _ => {
+                        a.set_step_size(0.0);
+                        bad.m = [f32::NAN; 3];
+                    }
+                }
+                assert!(a.step_state(&mut bad).is_err(), "{kind}");
+                a.set_step_size(0.005);
+            }
+            a.step_state(&mut s).unwrap();
+            if k % 1000 == 0 {
+                let c: f64 = s.m.iter().map(|&x| (x as f64).powi(2)).sum();
+                worst = worst.max((c / c0 - 1.0).abs());
+            }
         }
-        mv.step_state(&mut s).unwrap();
-        if k % 1000 == 0 {
-            let c: f64 = s.m.iter().map(|&x| (x as f64).powi(2)).sum();
-            worst = worst.max((c / c0 - 1.0).abs());
-        }
+        println!("f32, a refusal every 7th tick ({kind}, PreMv {pre}): |m|^2 within {worst:.1e}");
+        assert!(worst <= 2e-6, "{kind} {pre}: {worst:e}");
     }
-    println!("f32, a refused h every 7th tick: |m|^2 within {worst:.1e}");
-    assert!(worst <= 2e-6, "{worst:e}");
 }
