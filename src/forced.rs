@@ -186,16 +186,19 @@ pub(crate) fn kick<T: Real>(m: Vec3<T>, d: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
     (sum, d.sub(sum.sub(m)))
 }
 
-/// The carried momentum rounding `lost` for a step from `m`: kept while it is below a few ulps
-/// of `m` (as after every step of the integrator: a residue is below an ulp of the sum it was
-/// dropped from), dropped where the caller changed `m` so much that it is not. A residue kept
+/// The carried momentum rounding `lost` for a step from `m`: kept while it is below `64 eps |m|`
+/// (after a step of the integrator it is a sum of residues each below an ulp of the sum it was
+/// dropped from: `Composed` with a rotor gathers up to 15 a step, and a first limit of
+/// `4 eps |m|` dropped them thousands of times in `2 x 10^5` steps, a biased loss that moved
+/// f32 `|m|^2` by 9.3e-4, found in review), dropped where the caller changed `m` so much
+/// that it is not. A residue kept
 /// after the caller shrank `m` by `1e8` was added to the new momentum whole (f32 `1e-8` became
 /// `4e-8`, and a momentum set to zero would have moved), and with a rotor the Casimir hold
 /// amplified it to `1e11` in three steps (found in review). One test on the squared norms
 /// (the M4F's forced step: 14 instructions; per component it cost 27).
 #[inline(always)]
 pub(crate) fn carried_for<T: Real>(m: Vec3<T>, lost: Vec3<T>) -> Vec3<T> {
-    if lost.norm2() <= c::<T>(16.0) * sq(T::EPSILON) * m.norm2() {
+    if lost.norm2() <= c::<T>(4096.0) * sq(T::EPSILON) * m.norm2() {
         lost
     } else {
         Vec3::new(T::ZERO, T::ZERO, T::ZERO)
@@ -240,16 +243,37 @@ pub(crate) struct Forcing<T, F> {
     /// dropped by `reset`.
     pub(crate) lost: State<T>,
     /// A torque has acted or the rotor has turned the state since the integrator was made or
-    /// reset: from then on every step carries the state's rounding in f32, torque or not
-    /// ([`Forcing::carries`]).
+    /// reset, on a body that carries after it (`sticky`): from then on every step carries the
+    /// state's rounding in f32, torque or not ([`Forcing::carries`]).
     acted: bool,
+    /// The drift's body is compact enough that its free steps carry after a torque
+    /// ([`Forcing::carries`]): mass matrix `J_max <= STICKY_J_RATIO J_min`.
+    pub(crate) sticky: bool,
+}
+
+/// The mass-matrix spread (`J_max / J_min`) up to which a `Forced` whose body has felt a
+/// torque carries the state's rounding through the free stretches after it, rather than
+/// leaving them to the drift's holds ([`Forcing::carries`]). Measured on three bodies in f32
+/// at 200 Hz and 1 kHz with thruster pulses (a flight-loop trial): the spacecraft
+/// `I = (60, 95, 120)` (spread 4.4) and a near-symmetric `(100, 101, 130)` (1.8) follow f64
+/// within 0.1-2x the scene's sensitivity carried, 12-124x held; an elongated `(8, 120, 122)`
+/// (39) drifts carried (its solve's relative error, larger with the spread, is biased and
+/// nothing holds it: 372-545x at `10^7` steps, energy 1e-5) and stays at 8-194x held.
+const STICKY_J_RATIO: f64 = 16.0;
+
+/// Whether a body's free steps carry after a torque ([`STICKY_J_RATIO`]).
+pub(crate) fn carries_after_torque<T: Real>(body: &Body<T>) -> bool {
+    let [j1, j2, j3] = body.mass_matrix();
+    let (lo, hi) = (j1.min(j2).min(j3), j1.max(j2).max(j3));
+    lo > T::ZERO && hi <= c::<T>(STICKY_J_RATIO) * lo
 }
 
 impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// Whether a step carries the state's rounding ([`Forced`]'s error model): at a precision
     /// that needs it ([`carries_rounding`]) and when a torque acts or the rotor turns the
-    /// state, or did at any step before (`acted`); a free body that never felt either is left
-    /// to the drift's own free-running step and holds.
+    /// state, or did at any step before on a compact body (`acted`, [`STICKY_J_RATIO`]); a
+    /// free body that never felt either, or an elongated one, is left to the drift's own
+    /// free-running step and holds.
     ///
     /// Why the steps after a torque carry too (found by a flight-loop trial): a free stretch
     /// left to the drift takes its invariants from the rounded state, about an ulp off the
@@ -394,6 +418,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
             spatial: None,
             lost: State::new([T::ZERO; 3], [T::ZERO; 4]),
             acted: false,
+            sticky: false,
         }
     }
 
@@ -604,8 +629,17 @@ fn kdk<T: Real, D: Integrator<T>, F: Torque<T>>(
             StepError::NonFinite
         });
     }
-    // only on success: a caller may pass its own carry in place
-    *lost = State::new(lost1.to_array(), lost_q.to_array());
+    // only on success: a caller may pass its own carry in place. A free body's step in f32
+    // (the torque has stopped on a body that does not carry after it) drops it: applied to
+    // `m` in this step's kicks, its rest is below half an ulp, and kept it was re-added at
+    // every kick of the stretch and now and then rounded into `m`, which the drift took as
+    // an outside change and re-took its invariants from (a coast after a small torque on
+    // the spacecraft ended 3e-5 to 1.7e-4 rad from f64, a fresh `Mv` 5e-6 to 1.1e-5)
+    *lost = if carries_rounding::<T>() && !carry {
+        State::new([T::ZERO; 3], [T::ZERO; 4])
+    } else {
+        State::new(lost1.to_array(), lost_q.to_array())
+    };
     Ok((m, q, tau1))
 }
 
@@ -646,7 +680,14 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
         (m, pending) = turn_momentum(p, m, pending, carry);
     }
     let (m, lost1) = kick(m, tau1.scale(half).add(lost0));
-    *lost = if carry { lost1.add(pending) } else { lost1 };
+    *lost = if carry {
+        lost1.add(pending)
+    } else if carries_rounding::<T>() {
+        // (as in kdk)
+        Vec3::new(T::ZERO, T::ZERO, T::ZERO)
+    } else {
+        lost1
+    };
     if m.is_finite() {
         Ok(m)
     } else {
@@ -697,10 +738,13 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// review); about 500x without the carry. Without torque and rotor the drift runs its own
 /// free-running step, which holds the invariants and (f32) carries its own rounding
 /// ([`crate::Mv`]), until a torque has acted or the rotor has turned the state: from then on,
-/// in f32, every step carries, torque or not (free stretches between thruster pulses left to
-/// the drift's holds took their invariants from the rounded state each time, and the
-/// attitude random-walked to 25-104x the scene's sensitivity; now 0.4-0.8x, tests/forced.rs
-/// `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`). A gyrostat without torque
+/// in f32 and on a compact body (mass-matrix spread `J_max / J_min` up to 16), every step
+/// carries, torque or not (free stretches between thruster pulses left to the drift's holds
+/// took their invariants from the rounded state each time, and the attitude random-walked to
+/// 25-104x the scene's sensitivity; now 0.4-0.8x, tests/forced.rs
+/// `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`; on an elongated body the
+/// carried free steps drifted instead, `an_elongated_body_after_a_torque_steps_as_a_free_one`,
+/// and its free stretches stay with the holds). A gyrostat without torque
 /// holds `|m|^2` and `R(q) m` in f64; in f32 it carries instead (holding as well rounded the
 /// state without carrying that rounding, which fought the carry: 339x the sensitivity after
 /// `10^6` steps, now 0.6x, `an_f32_gyrostat_follows_f64`; `|m|^2` and `R(q) m` within
@@ -733,9 +777,11 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// The free integrator `drift` driven by `torque`, at time zero, without rotor.
     #[must_use]
     pub fn new(drift: D, torque: F) -> Self {
+        let mut forcing = Forcing::new(torque);
+        forcing.sticky = carries_after_torque(drift.body());
         Self {
             drift,
-            forcing: Forcing::new(torque),
+            forcing,
             turn: None,
         }
     }
@@ -825,8 +871,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// of order 2 when the values are those of a smooth torque history. The torques are taken
     /// to act, even when zero: the drift takes each step as an outside change and the state's
     /// rounding is carried ([`Forced`]), and in f32 every later step of this integrator
-    /// carries it too, torque or not ([`Forced`]'s error model: that keeps the stretches
-    /// between pulses on the trajectory). For a long free stretch without pulses, step the drift
+    /// carries it too, torque or not, on a compact body ([`Forced`]'s error model: that keeps
+    /// the stretches between pulses on the trajectory). For a long free stretch without pulses, step the drift
     /// itself (its free-running step and holds, cheaper: M4F 370 instead of 606 instructions).
     ///
     /// # Errors
@@ -874,7 +920,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         s.q = q.to_array();
         self.forcing.clock = clock;
         self.forcing.last = None;
-        self.forcing.acted = true;
+        self.forcing.acted = self.forcing.sticky;
         Ok(())
     }
 
@@ -937,7 +983,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         )
         .map_err(|e| self.refusal(e))?;
         self.forcing.commit(s, m, q, clock, lost, tau1);
-        self.forcing.acted = true;
+        self.forcing.acted = self.forcing.sticky;
         Ok(())
     }
 }
@@ -975,7 +1021,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         } else {
             next
         };
-        self.forcing.acted |= carry;
+        self.forcing.acted |= carry && self.forcing.sticky;
         self.forcing.lost.m = lost.to_array();
         *m = next.to_array();
         self.forcing.clock = clock;
@@ -1016,7 +1062,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
             (m, q)
         };
         self.forcing.commit(s, m, q, clock, lost, tau1);
-        self.forcing.acted |= carry;
+        self.forcing.acted |= carry && self.forcing.sticky;
         Ok(())
     }
 
