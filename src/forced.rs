@@ -872,8 +872,9 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// to act, even when zero: the drift takes each step as an outside change and the state's
     /// rounding is carried ([`Forced`]), and in f32 every later step of this integrator
     /// carries it too, torque or not, on a compact body ([`Forced`]'s error model: that keeps
-    /// the stretches between pulses on the trajectory). For a long free stretch without pulses, step the drift
-    /// itself (its free-running step and holds, cheaper: M4F 370 instead of 606 instructions).
+    /// the stretches between pulses on the trajectory). For a long free stretch without
+    /// pulses, step the drift itself (its free-running step and holds, cheaper: M4F 370
+    /// instead of 626 instructions).
     ///
     /// # Errors
     ///
