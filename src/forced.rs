@@ -191,11 +191,11 @@ pub(crate) fn kick<T: Real>(m: Vec3<T>, d: Vec3<T>) -> (Vec3<T>, Vec3<T>) {
 /// dropped from: `Composed` with a rotor gathers up to 15 a step, and a first limit of
 /// `4 eps |m|` dropped them thousands of times in `2 x 10^5` steps, a biased loss that moved
 /// f32 `|m|^2` by 9.3e-4, found in review), dropped where the caller changed `m` so much
-/// that it is not. A residue kept
-/// after the caller shrank `m` by `1e8` was added to the new momentum whole (f32 `1e-8` became
-/// `4e-8`, and a momentum set to zero would have moved), and with a rotor the Casimir hold
-/// amplified it to `1e11` in three steps (found in review). One test on the squared norms
-/// (the M4F's forced step: 14 instructions; per component it cost 27).
+/// that it is not. A residue kept after the caller shrank `m` by `1e8` was added to the new
+/// momentum whole (f32 `1e-8` became `4e-8`, and a momentum set to zero would have moved),
+/// and with a rotor the Casimir hold amplified it to `1e11` in three steps (found in review).
+/// One test on the squared norms (the M4F's forced step: 20 instructions; per component it
+/// cost 27).
 #[inline(always)]
 pub(crate) fn carried_for<T: Real>(m: Vec3<T>, lost: Vec3<T>) -> Vec3<T> {
     if lost.norm2() <= c::<T>(4096.0) * sq(T::EPSILON) * m.norm2() {
@@ -282,10 +282,20 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// with a pulse of 4 ticks every 200, the attitude random-walked to 25-55x the scene's own
     /// sensitivity to one ulp of `m` after `10^6` steps (104x after `10^7`), where carrying
     /// every step stays at 0.7-1.8x. Carrying costs the free stretch the drift's solve (M4F
-    /// 606 instead of 370 instructions).
+    /// 626 instead of 370 instructions).
     #[inline(always)]
     pub(crate) fn carries(&self, rotor_turns: bool) -> bool {
         carries_rounding::<T>() && (rotor_turns || !self.torque.is_zero() || self.acted)
+    }
+
+    /// Notes a successful step that carried (`carry`): on a compact body ([`STICKY_J_RATIO`])
+    /// every later step carries too ([`Forcing::carries`]).
+    #[inline(always)]
+    pub(crate) fn mark_acted(&mut self, carry: bool) {
+        // (`acted` is never set without `sticky`)
+        if carry {
+            self.acted = self.sticky;
+        }
     }
 
     /// Without torque, scales `out` back to the Casimir of the trajectory `m_in` is on, to
@@ -748,8 +758,9 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// holds `|m|^2` and `R(q) m` in f64; in f32 it carries instead (holding as well rounded the
 /// state without carrying that rounding, which fought the carry: 339x the sensitivity after
 /// `10^6` steps, now 0.6x, `an_f32_gyrostat_follows_f64`; `|m|^2` and `R(q) m` within
-/// 3.5e-7 over `10^6` steps and 1.6-3.0e-6 over `10^7`, where the holds kept 3e-7). Where the exact
-/// increment is zero (a sphere, whose `m` a torque-free step leaves as it is) the carry also
+/// 3.5e-7 over `10^6` steps and 1.6-3.0e-6 over `10^7`, where the holds kept 3e-7). Where
+/// the exact increment is zero (a sphere, whose `m` a torque-free step leaves as it is) the
+/// carry also
 /// keeps the increments' own round-off, about `1e-4` ulp a step at `h |Omega| = 5e-4` (more at
 /// faster turns: 5e-3 ulp a step at `2.5e-3`, bounded from `10^5` to `10^6` steps), which
 /// rounding used to drop: on a sphere in f32 `m` moves 70 to 125 ulps (1.2e-5) in `10^6` steps
@@ -921,7 +932,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         s.q = q.to_array();
         self.forcing.clock = clock;
         self.forcing.last = None;
-        self.forcing.acted = self.forcing.sticky;
+        self.forcing.mark_acted(true);
         Ok(())
     }
 
@@ -984,7 +995,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         )
         .map_err(|e| self.refusal(e))?;
         self.forcing.commit(s, m, q, clock, lost, tau1);
-        self.forcing.acted = self.forcing.sticky;
+        self.forcing.mark_acted(true);
         Ok(())
     }
 }
@@ -1022,7 +1033,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         } else {
             next
         };
-        self.forcing.acted |= carry && self.forcing.sticky;
+        self.forcing.mark_acted(carry);
         self.forcing.lost.m = lost.to_array();
         *m = next.to_array();
         self.forcing.clock = clock;
@@ -1063,7 +1074,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
             (m, q)
         };
         self.forcing.commit(s, m, q, clock, lost, tau1);
-        self.forcing.acted |= carry && self.forcing.sticky;
+        self.forcing.mark_acted(carry);
         Ok(())
     }
 

@@ -172,6 +172,21 @@ pub trait Integrator<T> {
     }
 }
 
+/// Whether `|after|^2` is `|before|^2` to `tol` relative, both measured in units of
+/// `before`'s largest component (so neither square overflows or underflows apart); a zero
+/// `before` agrees only with a zero `after`. The check a step makes where its arithmetic keeps
+/// `|m|^2` and a result off the sphere means it went wrong (`Mv` below the scaled units'
+/// resolution, `Midpoint` stopped short of a solution).
+pub(crate) fn norms_agree<T: Real>(before: Vec3<T>, after: Vec3<T>, tol: T) -> bool {
+    let big = before.max_abs();
+    if !(big > T::ZERO) {
+        return after.max_abs() == T::ZERO;
+    }
+    let to_unit = T::ONE / big;
+    let (b, a) = (before.scale(to_unit).norm2(), after.scale(to_unit).norm2());
+    (a - b).abs() <= tol * b
+}
+
 /// Checks a state before a step: finite entries and a non-zero quaternion. Returns the
 /// momentum and the attitude, normalised only if it is off unit length by more than `2^-10`
 /// (renormalising a unit quaternion every step rounds each component and so turns it by

@@ -3,8 +3,8 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, write_momentum, write_state, Integrator,
-    State,
+    checked_momentum, checked_state, compose_attitude, norms_agree, write_momentum, write_state,
+    Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, Real};
@@ -127,14 +127,7 @@ impl<T: Real> Midpoint<T> {
 /// review: an f32 rod at `h |Omega|` near 0.6 returned `Ok` with `|m|^2` from 1 to 1.4e15, an
 /// f64 body `|m|` from 3e32 to 3e144).
 fn on_sphere<T: Real>(m: Vec3<T>, next: Vec3<T>) -> Result<(), StepError> {
-    // in units of the largest component: |m|^2 itself may overflow
-    let big = m.max_abs();
-    if !(big > T::ZERO) {
-        return Ok(());
-    }
-    let to_unit = T::ONE / big;
-    let (before, after) = (m.scale(to_unit).norm2(), next.scale(to_unit).norm2());
-    if (after - before).abs() <= T::EPSILON.sqrt() * before {
+    if norms_agree(m, next, T::EPSILON.sqrt()) {
         Ok(())
     } else {
         Err(StepError::NoConvergence)

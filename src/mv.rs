@@ -45,7 +45,7 @@ use crate::cubic::quartic_largest_root;
 use crate::error::StepError;
 use crate::integrator::{
     carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
-    compose_unrenormalised, turn_in_space, write_state_stepped, Integrator, State,
+    compose_unrenormalised, norms_agree, turn_in_space, write_state_stepped, Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv_frozen::FrozenMap;
@@ -562,8 +562,8 @@ impl<T: Real> Anchor<T> {
         };
         let (alpha, beta) = (self.taken.0 * r, self.beta_base * r);
         // (a zero or non-finite r turns the carry off)
-        self.turn2 = self.turn2_taken * r;
-        self.carry = carries_rounding::<T>() && self.turn2 <= c::<T>(CARRY_TURN2) && r > T::ZERO;
+        self.follow_turn2(self.turn2_taken * r);
+        self.carry &= r > T::ZERO;
         self.stale = 0;
         let ok = alpha.is_finite() && beta.is_finite();
         self.alpha = if ok { alpha } else { T::ZERO };
@@ -592,8 +592,15 @@ impl<T: Real> Anchor<T> {
     #[inline(always)]
     fn rescale_later(&mut self, r2: T) {
         self.stale = 1;
-        self.turn2 *= r2;
-        self.carry = carries_rounding::<T>() && self.turn2 <= c::<T>(CARRY_TURN2);
+        self.follow_turn2(self.turn2 * r2);
+    }
+
+    /// `(h |Omega|)^2` at the current `h` and scale, and with it whether the plain f32 steps
+    /// carry ([`CARRY_TURN2`]).
+    #[inline(always)]
+    fn follow_turn2(&mut self, turn2: T) {
+        self.turn2 = turn2;
+        self.carry = carries_rounding::<T>() && turn2 <= c::<T>(CARRY_TURN2);
     }
 
     /// The correction towards the trajectory's invariants carried to the scaled step `t.hn`
@@ -613,8 +620,7 @@ impl<T: Real> Anchor<T> {
         // (h |Omega|)^2 is in unscaled units: the re-solve's scale enters with h
         if self.carry {
             let r = sq(t.hn / self.hn0 * (t.kappa / self.kappa0));
-            self.turn2 = self.turn2_taken * r;
-            self.carry = self.turn2 <= c::<T>(CARRY_TURN2);
+            self.follow_turn2(self.turn2_taken * r);
         }
         // invariants taken at a step so small that they lost digits cannot be carried
         // (the carried correction moved m by up to its size, and the step was refused as
@@ -1419,14 +1425,7 @@ impl<T: Real> Mv<T> {
         if full_digits(target) {
             return false;
         }
-        let m = next.sub(applied);
-        let big = m.max_abs();
-        if !(big > T::ZERO) {
-            return next.max_abs() == T::ZERO;
-        }
-        let to_unit = T::ONE / big;
-        let (before, after) = (m.scale(to_unit).norm2(), next.scale(to_unit).norm2());
-        (after - before).abs() <= t.tol_unit * before
+        norms_agree(next.sub(applied), next, t.tol_unit)
     }
 
     /// [`Integrator::set_step_size`] beyond what the tracked root survives: a change by more
@@ -1474,16 +1473,17 @@ impl<T: Real> Mv<T> {
 
     /// A step refused after it tracked the root to its input and re-took or corrected the
     /// anchor (the solve, the overflow and the sphere checks; [`Mv::refused`]) forgets the
-    /// trajectory (tracked root, anchored invariants, carries): kept, they made the next step from the caller's
-    /// unchanged state another one (found in review: on a needle, `Err(Degenerate)` and then
-    /// the identical call `Ok` with `|m|^2` 1.1e-2 off). The next step starts afresh from its
-    /// input, as a new integrator would. A refusal before that (the existence check, the
-    /// re-solve after a change of `h`) changed nothing and forgets nothing: a loop that asks
-    /// for too large an `h` now and then keeps its invariants, and a pause carries them to the
-    /// next `h` that steps (forgetting there let f32 `|m|^2` random-walk to 2.3e-5 in
-    /// `2 x 10^5` ticks with a refusal every 7th, found in review of the first version). (A step refused after `advance` succeeded, by the turn or the
-    /// state check, needs none of this: `advance` moved the anchor on to its result, so the
-    /// caller's unchanged state is an outside change for the next step, re-taken as it is.)
+    /// trajectory (tracked root, anchored invariants, carries): kept, they made the next step
+    /// from the caller's unchanged state another one (found in review: on a needle,
+    /// `Err(Degenerate)` and then the identical call `Ok` with `|m|^2` 1.1e-2 off). The next
+    /// step starts afresh from its input, as a new integrator would. A refusal before that
+    /// (the existence check, the re-solve after a change of `h`) changed nothing and forgets
+    /// nothing: a loop that asks for too large an `h` now and then keeps its invariants, and a
+    /// pause carries them to the next `h` that steps (forgetting there let f32 `|m|^2`
+    /// random-walk to 2.3e-5 in `2 x 10^5` ticks with a refusal every 7th, found in review of
+    /// the first version). (A step refused after `advance` succeeded, by the turn or the state
+    /// check, needs none of this: `advance` moved the anchor on to its result, so the caller's
+    /// unchanged state is an outside change for the next step, re-taken as it is.)
     #[cold]
     #[inline(never)]
     fn failed(&mut self, e: StepError) -> StepError {
@@ -1968,6 +1968,10 @@ impl<T: Real> Integrator<T> for Mv<T> {
     /// afresh (after a reset of the state; not needed for corrections, which the tracking
     /// absorbs).
     fn reset(&mut self) {
+        // the fields `forget_trajectory` clears that a next step reads after a reset (the
+        // others are only read with an anchor); calling it from here, cold or not, moved the
+        // M4F's free-running step 370 -> 390 instructions (code layout), and cold it laid a
+        // filter's tick that resets a scratch copy every time 1470 instructions longer
         self.track = None;
         self.anchor = None;
         self.phase = 0;
