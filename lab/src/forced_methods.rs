@@ -161,6 +161,8 @@ pub const FORCED_METHODS: &[&str] = &[
     "forced6",
     "forced4-pre4",
     "forced6-pre6",
+    "forced4-pre10",
+    "forced6-pre10",
     "nystrom4-pre6",
     "nystrom6-pre6",
     "nystrom4-pre10",
@@ -192,6 +194,8 @@ pub fn describe_forced(name: &str) -> &'static str {
         "forced6" => "Kahan-Li 9-stage symmetric composition of the Mv kick-drift-kick, order 6",
         "forced4-pre4" => "forced4 with the order-4 PreMv drift",
         "forced6-pre6" => "forced6 with the order-6 PreMv drift",
+        "forced4-pre10" => "forced4 with the order-10 PreMv drift",
+        "forced6-pre10" => "forced6 with the order-10 PreMv drift",
         "nystrom4-pre6" | "nystrom4-pre10" | "nystrom4-exact" => {
             "Blanes-Moan SRKN_6^b Nystrom splitting (kicks, near-exact drifts: PreMv or Exact), order 4, no rotor"
         }
@@ -266,6 +270,8 @@ pub fn make_forced<T: Real + 'static>(
         "forced6" => composed(Mv::new(body, h), torque, rotor, 6),
         "forced4-pre4" => composed(PreMv::new(body, h, 4).ok()?, torque, rotor, 4),
         "forced6-pre6" => composed(PreMv::new(body, h, 6).ok()?, torque, rotor, 6),
+        "forced4-pre10" => composed(PreMv::new(body, h, 10).ok()?, torque, rotor, 4),
+        "forced6-pre10" => composed(PreMv::new(body, h, 10).ok()?, torque, rotor, 6),
         "nystrom4-pre6" => nystrom(PreMv::new(body, h, 6).ok()?, torque, rotor, 4),
         "nystrom6-pre6" => nystrom(PreMv::new(body, h, 6).ok()?, torque, rotor, 6),
         "nystrom4-pre10" => nystrom(PreMv::new(body, h, 10).ok()?, torque, rotor, 4),

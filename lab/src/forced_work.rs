@@ -61,7 +61,7 @@ pub fn charted_scenes() -> Vec<ForcedScene> {
 }
 
 /// The forced methods of rigid3 competing for "best".
-pub const RIGID3_FORCED: [&str; 17] = [
+pub const RIGID3_FORCED: [&str; 19] = [
     "mv",
     "pre-mv4",
     "pre-mv6",
@@ -70,6 +70,8 @@ pub const RIGID3_FORCED: [&str; 17] = [
     "forced6",
     "forced4-pre4",
     "forced6-pre6",
+    "forced4-pre10",
+    "forced6-pre10",
     "nystrom4-pre6",
     "nystrom6-pre6",
     "nystrom4-pre10",
@@ -86,7 +88,7 @@ pub const RIGID3_FORCED: [&str; 17] = [
 pub const FORCED_BASELINES: [&str; 3] = ["rk4", "splitting", "midpoint"];
 
 /// Every forced method of the charts.
-pub const FORCED_CHART: [&str; 13] = [
+pub const FORCED_CHART: [&str; 15] = [
     "mv",
     "pre-mv4",
     "pre-mv10",
@@ -94,6 +96,8 @@ pub const FORCED_CHART: [&str; 13] = [
     "forced6",
     "forced4-pre4",
     "forced6-pre6",
+    "forced4-pre10",
+    "forced6-pre10",
     "nystrom4-pre10",
     "nystrom6-pre10",
     "fg4-pre6",

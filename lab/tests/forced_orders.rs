@@ -1,9 +1,11 @@
 //! Measured orders of the forced methods against the mpmath references of the forced scenes
 //! (`lab/refs/forced_refs.json`): `mv` (the kick–drift–kick around `Mv`, order 2), `forced4`
-//! (McLachlan's composition, 4), `forced6` (Kahan–Li's, 6) and Blanes–Moan's Nyström
+//! (McLachlan's composition, 4), `forced6` (Kahan–Li's, 6), the same two over the order-10
+//! `PreMv` drift (`forced4-pre10`, `forced6-pre10`; the latter not on the Lagrange top, whose
+//! near-exact drift leaves no asymptotic range above the floor), Blanes–Moan's Nyström
 //! splittings `nystrom4-pre10` (4) and `nystrom6-pre6` (6), and Chin's force-gradient splitting
-//! `fg4-pre10` (4) (these three on the scenes without rotor), built by the
-//! lab's registry `make_forced`, at `T = 10`, with attitude.
+//! `fg4-pre10` (4) (these three on the scenes without rotor), built by the lab's registry
+//! `make_forced`, at `T = 10`, with attitude.
 //!
 //! The error is `forced_work::error`: `max(|dm| / |m_ref|, |dq|)` (`q` up to sign). Each order is
 //! the least-squares slope of `log error` against `log h` over three halvings of `h`, and each
@@ -32,10 +34,12 @@ const SCENES: [(&str, bool); 6] = [
 ];
 
 /// Method, nominal order, step counts at `T = 10` (for the slow scenes).
-const METHODS: [(&str, f64, [usize; 3]); 6] = [
+const METHODS: [(&str, f64, [usize; 3]); 8] = [
     ("mv", 2.0, [160, 320, 640]),
     ("forced4", 4.0, [160, 320, 640]),
     ("forced6", 6.0, [80, 160, 320]),
+    ("forced4-pre10", 4.0, [40, 80, 160]),
+    ("forced6-pre10", 6.0, [20, 40, 80]),
     ("nystrom4-pre10", 4.0, [80, 160, 320]),
     ("nystrom6-pre6", 6.0, [20, 40, 80]),
     ("fg4-pre10", 4.0, [80, 160, 320]),
@@ -49,6 +53,7 @@ fn step_counts(method: &str, name: &str, base: [usize; 3], fast: bool) -> [usize
     match (method, name) {
         ("nystrom4-pre10", "lagrange_top") => base,
         ("nystrom6-pre6", "gravity_gradient") => base.map(|n| 2 * n),
+        ("forced6-pre10", "gyrostat") => [12, 24, 48],
         _ => base.map(|n| if fast { 2 * n } else { n }),
     }
 }
@@ -79,6 +84,13 @@ fn measured_orders_against_the_mpmath_references() {
                 // no Nystrom splitting with a rotor: the registry refuses it
                 let body = rigid3::Body::<f64>::from_inertia(sc.inertia).unwrap();
                 assert!(make_forced(method, body, 0.1, &sc.spec).is_none());
+                continue;
+            }
+            if (method, name) == ("forced6-pre10", "lagrange_top") {
+                // the near-exact drift of the symmetric top leaves this composition
+                // pre-asymptotic down to 3e-9 (local orders 6.77, then 6.10 from 64 steps), and
+                // two halvings of order 6 divide the error by 4096: its third count falls under
+                // the 1e-12 floor (5.1e-13 at 256 steps); forced6 is measured here instead
                 continue;
             }
             let ns = step_counts(method, name, base, fast);

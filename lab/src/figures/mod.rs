@@ -59,6 +59,8 @@ pub fn style(method: &str) -> (RGBColor, Mark, bool) {
         "forced6" => (RGBColor(0, 0, 139), Mark::Square, false),
         "forced4-pre4" => (RGBColor(0, 100, 0), Mark::Cross, true),
         "forced6-pre6" => (RGBColor(0, 0, 139), Mark::Cross, true),
+        "forced4-pre10" => (RGBColor(60, 179, 113), Mark::Circle, true),
+        "forced6-pre10" => (RGBColor(65, 105, 225), Mark::Circle, true),
         "nystrom4-pre10" => (RGBColor(200, 0, 90), Mark::Triangle, false),
         "nystrom6-pre10" => (RGBColor(110, 0, 160), Mark::Square, false),
         "fg4-pre6" => (RGBColor(230, 120, 0), Mark::Triangle, false),
