@@ -885,7 +885,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// carries it too, torque or not, on a compact body ([`Forced`]'s error model: that keeps
     /// the stretches between pulses on the trajectory). For a long free stretch without
     /// pulses, step the drift itself (its free-running step and holds, cheaper: M4F 370
-    /// instead of 626 instructions).
+    /// instead of 634 instructions).
     ///
     /// # Errors
     ///
@@ -898,11 +898,15 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         tau_start: [T; 3],
         tau_end: [T; 3],
     ) -> Result<(), StepError> {
-        // the state and the torques are checked on their way through the step (kdk): the
-        // drift refuses a non-finite input (a non-finite start torque makes one), the end
-        // kick a non-finite result (a non-finite end torque makes one); a turn needs the
-        // unit attitude first. The drift may then have stepped: its own next step sees the
-        // caller's state as an outside change, as after any correction.
+        // the state and the start torque are checked on their way through the step (kdk):
+        // the drift refuses a non-finite input (a non-finite start torque makes one); a turn
+        // needs the unit attitude first. The end torque is checked here: found by the end
+        // kick, the drift had stepped, and its next step started from a root moved on to a
+        // step that never happened (f32 `|m|^2` walked 2.6e-5 with a NaN end torque every
+        // 7th tick, found in review)
+        if !Vec3::from_array(tau_end).is_finite() {
+            return Err(self.refusal(StepError::NonFinite));
+        }
         let turn = self.turn;
         let (m, q) = if turn.is_some() {
             checked_state(s)?
@@ -969,7 +973,11 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
             return self.step_state(s);
         }
         // written apart from step_state (a shared inlined body moved the M4F's gravity-gradient
-        // step 916 -> 922 instructions and the firmware's flash by 2 KB)
+        // step 916 -> 922 instructions and the firmware's flash by 2 KB); the end torque
+        // checked before the drift steps ([`Forced::step_state_with`])
+        if !Vec3::from_array(tau_end).is_finite() {
+            return Err(self.refusal(StepError::NonFinite));
+        }
         let turn = self.turn;
         let (m0, q0) = checked_state(s)?;
         let h = self.drift.step_size();
