@@ -734,7 +734,14 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// and hand back what that rounding dropped (`dx - (x' - x)`, exact by Fast2Sum while
 /// `|dx| <= |x|`): the momentum's part joins the next kick, the attitude's the next turn of
 /// the attitude. What is left is the rounding of the increments themselves, relative to
-/// `h |Omega|`, and of the torque. Measured in f32 at 200 Hz on a spacecraft-like body under
+/// `h |Omega|`, and of the torque. The drift's increment is also biased by about
+/// `eps (h |Omega|)^2` of the invariants a step, with one sign along a trajectory (its
+/// rounded constants): at large turns `Mv`'s carried step moves its result back onto its
+/// input's `|m|^2` and energy, their change computed from the increment (crate::mv's
+/// `fix_from_increment`; a satellite tumbling at `h |Omega| = 0.02` under the gravity
+/// gradient had drifted its Jacobi integral by 4.5e-5 of the energy in `10^6` f32 steps and
+/// ended 200x the sensitivity below, now within 5e-7 and 0.4-2.5x; found by a first-use
+/// trial, tests/forced.rs `an_f32_satellite_tumbling_at_large_steps_keeps_its_jacobi_integral`). Measured in f32 at 200 Hz on a spacecraft-like body under
 /// a gravity gradient or a controller's torque, with and without wheels, against the same
 /// method in f64: attitude within 9e-7 rad and momentum within 9e-7 after `2 x 10^5` steps,
 /// 4.3e-6 after `10^6` (without the carry: 2e-4 to 1.2e-3 rad after `2 x 10^5` steps, 5e-3 to
@@ -885,7 +892,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// carries it too, torque or not, on a compact body ([`Forced`]'s error model: that keeps
     /// the stretches between pulses on the trajectory). For a long free stretch without
     /// pulses, step the drift itself (its free-running step and holds, cheaper: M4F 370
-    /// instead of 634 instructions).
+    /// instead of 643 instructions).
     ///
     /// # Errors
     ///
@@ -1092,7 +1099,9 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
 
     /// Sets the drift's step and the rotor's half turn for it; past half a revolution
     /// (`h |I^-1 h_r| > 8`) the steps return `StepTooLarge`, state and time untouched, until
-    /// `h` or the rotor comes back.
+    /// `h` or the rotor comes back. A zero `h` pauses the drift (as its own docs say); the
+    /// kicks then apply no torque, but in f32 the first paused step adds the carried sub-ulp
+    /// remainder of earlier kicks ([`Forced`]'s error model), which can move `m` by an ulp.
     fn set_step_size(&mut self, h: T) {
         self.drift.set_step_size(h);
         self.set_turn(half_turn(self.forcing.rotor_w, h));
