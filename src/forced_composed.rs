@@ -504,6 +504,213 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
     pub fn total_energy(&self, s: &State<T>) -> Option<T> {
         self.forcing.total_energy(self.stages[0].body(), s)
     }
+
+    /// One step under the model's torque **plus** a torque given at both ends of the step
+    /// (`tau_start` at `t`, `tau_end` at `t + h`; the same value twice for a zero-order hold),
+    /// as [`crate::Forced::step_state_plus`] does for the order-2 step: the controller's
+    /// command added to an environment model. The given torque is taken linear in time
+    /// between the two values, so each kick inside the step sees it at its own time; a
+    /// command held over the step, or one that varies linearly, keeps the scheme's order (4
+    /// or 6), a smooth command sampled at the ends gives order 2 in its own part. The model's
+    /// end torque is kept for the next step's start (one model evaluation per kick, as in
+    /// [`Integrator::step_state`]). A command of exactly zero at both ends is the model's own
+    /// step. Torques are in the body frame of [`Body`].
+    ///
+    /// # Errors
+    ///
+    /// `NonFinite` for a non-finite state, given torque or model torque, and the drift's
+    /// errors; the state and the time are then left as they were (the given torques are
+    /// checked before any drift steps).
+    pub fn step_state_plus(
+        &mut self,
+        s: &mut State<T>,
+        tau_start: [T; 3],
+        tau_end: [T; 3],
+    ) -> Result<(), StepError> {
+        let zero = [T::ZERO; 3];
+        if tau_start == zero && tau_end == zero {
+            return self.step_state(s);
+        }
+        let (start, end) = (Vec3::from_array(tau_start), Vec3::from_array(tau_end));
+        if !(start.is_finite() && end.is_finite()) {
+            return Err(StepError::NonFinite);
+        }
+        let slope = end.sub(start).scale(T::ONE / self.h);
+        let given = Linear {
+            start,
+            end,
+            // a zero `h` (a pause) has no slope to take
+            slope: if slope.is_finite() {
+                slope
+            } else {
+                Vec3::new(T::ZERO, T::ZERO, T::ZERO)
+            },
+            h: self.h,
+        };
+        self.step_state_given(s, given)
+    }
+
+    /// [`Integrator::step_state`] with `given` added to the model's torque at every kick.
+    #[inline(always)]
+    fn step_state_given<G: Given<T>>(
+        &mut self,
+        s: &mut State<T>,
+        given: G,
+    ) -> Result<(), StepError> {
+        let (m0, q0) = checked_state(s)?;
+        self.turn_check?;
+        let mut clock = self.forcing.clock;
+        let end = self.forcing.clock_after(self.h)?;
+        let last = self.pattern.len() - 1;
+        let mut tau = self.forcing.torque_at(clock.t, q0)?;
+        let eps = self.grad_len[0];
+        let first = given_kick(
+            &self.forcing.torque,
+            &given,
+            T::ZERO,
+            clock.t,
+            q0,
+            tau,
+            self.inv_i,
+            eps,
+        )?;
+        // the drifts' lengths so far, for the given torque's time
+        let mut elapsed = T::ZERO;
+        let lost0 = carried_for(m0, Vec3::from_array(self.forcing.lost.m));
+        let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(lost0));
+        let (mut q, mut lost_q) = (q0, Quat::from_array(self.forcing.lost.q));
+        let carry = carries_rounding::<T>();
+        // the turns' and the drifts' roundings join the carry after the last kick, as in `step`
+        let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        for (k, ((&i, &b), &g)) in self
+            .pattern
+            .iter()
+            .zip(self.kick_len.iter().skip(1))
+            .zip(self.grad_len.iter().skip(1))
+            .enumerate()
+        {
+            let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
+            if let Some(p) = turn {
+                ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
+            }
+            // a non-finite kick makes the drift's input non-finite, and the drift refuses it
+            let mut st = State::new(m.to_array(), q.to_array());
+            let mut dropped = State::new(pending.to_array(), lost_q.to_array());
+            // the free body is left to the drift's own holds (crate::forced's kdk)
+            d.step_state_carrying(&mut st, &mut dropped, carry)?;
+            (pending, lost_q) = (Vec3::from_array(dropped.m), Quat::from_array(dropped.q));
+            m = Vec3::from_array(st.m);
+            q = Quat::from_array(st.q);
+            if let Some(p) = turn {
+                ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
+            }
+            // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
+            clock = if k == last { end } else { clock.after(a) };
+            elapsed += a;
+            tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &q.to_array()));
+            let at = if k == last { self.h } else { elapsed };
+            let pushed = given_kick(
+                &self.forcing.torque,
+                &given,
+                at,
+                clock.t,
+                q,
+                tau,
+                self.inv_i,
+                g,
+            )?;
+            (m, lost) = kick(m, pushed.scale(b).add(lost));
+        }
+        if !m.is_finite() {
+            return Err(blown(tau));
+        }
+        // (as in `step`)
+        if self.turns[0].is_some() && !carry {
+            m = self.forcing.hold_casimir(m0, m);
+            q = self.forcing.hold_spatial(m0, q0, m, q);
+        }
+        let lost = if carry { lost.add(pending) } else { lost };
+        let lost = State::new(lost.to_array(), lost_q.to_array());
+        self.forcing.commit(s, m, q, clock, lost, tau);
+        Ok(())
+    }
+}
+
+/// A torque given on top of the model at a step's kicks ([`Composed::step_state_plus`]).
+trait Given<T: Real> {
+    /// The given torque after drifts of total length `elapsed` (`None`: none given).
+    fn at(&self, elapsed: T) -> Option<Vec3<T>>;
+}
+
+/// No given torque: [`Integrator::step_state`].
+struct NoGiven;
+
+impl<T: Real> Given<T> for NoGiven {
+    #[inline(always)]
+    fn at(&self, _elapsed: T) -> Option<Vec3<T>> {
+        None
+    }
+}
+
+/// A torque given at both ends of a step of length `h`, linear in time between them (the
+/// kicks of a composition fall inside the step).
+struct Linear<T> {
+    start: Vec3<T>,
+    end: Vec3<T>,
+    /// `(end - start) / h`.
+    slope: Vec3<T>,
+    h: T,
+}
+
+impl<T: Real> Given<T> for Linear<T> {
+    #[inline(always)]
+    fn at(&self, elapsed: T) -> Option<Vec3<T>> {
+        Some(if elapsed == self.h {
+            self.end
+        } else {
+            self.start.add(self.slope.scale(elapsed))
+        })
+    }
+}
+
+/// The model's torque plus a given body-frame torque at one instant, as a model: the given
+/// part does not turn with the body, so the turn rate is the model's.
+struct Plus<'a, T, F> {
+    model: &'a F,
+    given: Vec3<T>,
+}
+
+impl<T: Real, F: Torque<T>> Torque<T> for Plus<'_, T, F> {
+    fn torque(&self, t: T, q: &[T; 4]) -> [T; 3] {
+        Vec3::from_array(self.model.torque(t, q))
+            .add(self.given)
+            .to_array()
+    }
+    fn depends_on_attitude(&self) -> bool {
+        self.model.depends_on_attitude()
+    }
+    fn turn_rate(&self, t: T, q: &[T; 4], w: [T; 3]) -> Option<[T; 3]> {
+        self.model.turn_rate(t, q, w)
+    }
+}
+
+/// [`kick_torque`] for the model's torque `tau` plus what `given` gives after `elapsed`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn given_kick<T: Real, F: Torque<T>, G: Given<T>>(
+    model: &F,
+    given: &G,
+    elapsed: T,
+    t: T,
+    q: Quat<T>,
+    tau: Vec3<T>,
+    inv_i: Vec3<T>,
+    eps: T,
+) -> Result<Vec3<T>, StepError> {
+    match given.at(elapsed) {
+        None => kick_torque(model, t, q, tau, inv_i, eps),
+        Some(g) => kick_torque(&Plus { model, given: g }, t, q, tau.add(g), inv_i, eps),
+    }
 }
 
 /// The error of a step whose momentum came out non-finite.
@@ -582,60 +789,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
-        let (m0, q0) = checked_state(s)?;
-        self.turn_check?;
-        let mut clock = self.forcing.clock;
-        let end = self.forcing.clock_after(self.h)?;
-        let last = self.pattern.len() - 1;
-        let mut tau = self.forcing.torque_at(clock.t, q0)?;
-        let eps = self.grad_len[0];
-        let first = kick_torque(&self.forcing.torque, clock.t, q0, tau, self.inv_i, eps)?;
-        let lost0 = carried_for(m0, Vec3::from_array(self.forcing.lost.m));
-        let (mut m, mut lost) = kick(m0, first.scale(self.kick_len[0]).add(lost0));
-        let (mut q, mut lost_q) = (q0, Quat::from_array(self.forcing.lost.q));
-        let carry = carries_rounding::<T>();
-        // the turns' and the drifts' roundings join the carry after the last kick, as in `step`
-        let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
-        for (k, ((&i, &b), &g)) in self
-            .pattern
-            .iter()
-            .zip(self.kick_len.iter().skip(1))
-            .zip(self.grad_len.iter().skip(1))
-            .enumerate()
-        {
-            let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
-            if let Some(p) = turn {
-                ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
-            }
-            // a non-finite kick makes the drift's input non-finite, and the drift refuses it
-            let mut st = State::new(m.to_array(), q.to_array());
-            let mut dropped = State::new(pending.to_array(), lost_q.to_array());
-            // the free body is left to the drift's own holds (crate::forced's kdk)
-            d.step_state_carrying(&mut st, &mut dropped, carry)?;
-            (pending, lost_q) = (Vec3::from_array(dropped.m), Quat::from_array(dropped.q));
-            m = Vec3::from_array(st.m);
-            q = Quat::from_array(st.q);
-            if let Some(p) = turn {
-                ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
-            }
-            // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
-            clock = if k == last { end } else { clock.after(a) };
-            tau = Vec3::from_array(self.forcing.torque.torque(clock.t, &q.to_array()));
-            let pushed = kick_torque(&self.forcing.torque, clock.t, q, tau, self.inv_i, g)?;
-            (m, lost) = kick(m, pushed.scale(b).add(lost));
-        }
-        if !m.is_finite() {
-            return Err(blown(tau));
-        }
-        // (as in `step`)
-        if self.turns[0].is_some() && !carry {
-            m = self.forcing.hold_casimir(m0, m);
-            q = self.forcing.hold_spatial(m0, q0, m, q);
-        }
-        let lost = if carry { lost.add(pending) } else { lost };
-        let lost = State::new(lost.to_array(), lost_q.to_array());
-        self.forcing.commit(s, m, q, clock, lost, tau);
-        Ok(())
+        self.step_state_given(s, NoGiven)
     }
 
     fn step_size(&self) -> T {
