@@ -243,37 +243,16 @@ pub(crate) struct Forcing<T, F> {
     /// dropped by `reset`.
     pub(crate) lost: State<T>,
     /// A torque has acted or the rotor has turned the state since the integrator was made or
-    /// reset, on a body that carries after it (`sticky`): from then on every step carries the
-    /// state's rounding in f32, torque or not ([`Forcing::carries`]).
+    /// reset: from then on every step carries the state's rounding in f32, torque or not
+    /// ([`Forcing::carries`]).
     acted: bool,
-    /// The drift's body is compact enough that its free steps carry after a torque
-    /// ([`Forcing::carries`]): mass matrix `J_max <= STICKY_J_RATIO J_min`.
-    pub(crate) sticky: bool,
-}
-
-/// The mass-matrix spread (`J_max / J_min`) up to which a `Forced` whose body has felt a
-/// torque carries the state's rounding through the free stretches after it, rather than
-/// leaving them to the drift's holds ([`Forcing::carries`]). Measured on three bodies in f32
-/// at 200 Hz and 1 kHz with thruster pulses (a flight-loop trial): the spacecraft
-/// `I = (60, 95, 120)` (spread 4.4) and a near-symmetric `(100, 101, 130)` (1.8) follow f64
-/// within 0.1-2x the scene's sensitivity carried, 12-124x held; an elongated `(8, 120, 122)`
-/// (39) drifts carried (its solve's relative error, larger with the spread, is biased and
-/// nothing holds it: 372-545x at `10^7` steps, energy 1e-5) and stays at 8-194x held.
-const STICKY_J_RATIO: f64 = 16.0;
-
-/// Whether a body's free steps carry after a torque ([`STICKY_J_RATIO`]).
-pub(crate) fn carries_after_torque<T: Real>(body: &Body<T>) -> bool {
-    let [j1, j2, j3] = body.mass_matrix();
-    let (lo, hi) = (j1.min(j2).min(j3), j1.max(j2).max(j3));
-    lo > T::ZERO && hi <= c::<T>(STICKY_J_RATIO) * lo
 }
 
 impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// Whether a step carries the state's rounding ([`Forced`]'s error model): at a precision
     /// that needs it ([`carries_rounding`]) and when a torque acts or the rotor turns the
-    /// state, or did at any step before on a compact body (`acted`, [`STICKY_J_RATIO`]); a
-    /// free body that never felt either, or an elongated one, is left to the drift's own
-    /// free-running step and holds.
+    /// state, or did at any step before (`acted`); a free body that never felt either is left
+    /// to the drift's own free-running step and holds.
     ///
     /// Why the steps after a torque carry too (found by a flight-loop trial): a free stretch
     /// left to the drift takes its invariants from the rounded state, about an ulp off the
@@ -282,19 +261,24 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// with a pulse of 4 ticks every 200, the attitude random-walked to 25-55x the scene's own
     /// sensitivity to one ulp of `m` after `10^6` steps (104x after `10^7`), where carrying
     /// every step stays at 0.7-1.8x. Carrying costs the free stretch the drift's solve (M4F
-    /// 626 instead of 370 instructions).
+    /// 626 instead of 370 instructions). Until the carried drift step kept its input's
+    /// invariants (crate::mv's `fix_from_increment`, at every step on an elongated body) only
+    /// bodies with a mass-matrix spread up to 16 carried after a torque: an elongated body's
+    /// carried free steps drifted (`(8, 120, 122)`: 4.9e-5 rad from f64 in `10^6` steps, the
+    /// free `Mv` 2.1e-6), and left to the holds it random-walked with pulses as above (22-58x
+    /// the sensitivity on `(8, 120, 122)` and `(2, 100, 101)`); now every body carries, at
+    /// 0.45-1.5x (tests/forced.rs `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`).
     #[inline(always)]
     pub(crate) fn carries(&self, rotor_turns: bool) -> bool {
         carries_rounding::<T>() && (rotor_turns || !self.torque.is_zero() || self.acted)
     }
 
-    /// Notes a successful step that carried (`carry`): on a compact body ([`STICKY_J_RATIO`])
-    /// every later step carries too ([`Forcing::carries`]).
+    /// Notes a successful step that carried (`carry`): every later step carries too
+    /// ([`Forcing::carries`]).
     #[inline(always)]
     pub(crate) fn mark_acted(&mut self, carry: bool) {
-        // (`acted` is never set without `sticky`)
         if carry {
-            self.acted = self.sticky;
+            self.acted = true;
         }
     }
 
@@ -428,7 +412,6 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
             spatial: None,
             lost: State::new([T::ZERO; 3], [T::ZERO; 4]),
             acted: false,
-            sticky: false,
         }
     }
 
@@ -759,13 +742,12 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// review); about 500x without the carry. Without torque and rotor the drift runs its own
 /// free-running step, which holds the invariants and (f32) carries its own rounding
 /// ([`crate::Mv`]), until a torque has acted or the rotor has turned the state: from then on,
-/// in f32 and on a compact body (mass-matrix spread `J_max / J_min` up to 16), every step
-/// carries, torque or not (free stretches between thruster pulses left to the drift's holds
-/// took their invariants from the rounded state each time, and the attitude random-walked to
-/// 25-104x the scene's sensitivity; now 0.4-0.8x, tests/forced.rs
-/// `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`; on an elongated body the
-/// carried free steps drifted instead, `an_elongated_body_after_a_torque_steps_as_a_free_one`,
-/// and its free stretches stay with the holds). A gyrostat without torque
+/// in f32, every step carries, torque or not (free stretches between thruster pulses left to
+/// the drift's holds took their invariants from the rounded state each time, and the
+/// attitude random-walked to 25-104x the scene's sensitivity; now 0.4-1.5x on compact and
+/// elongated bodies, tests/forced.rs `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`;
+/// an elongated body's carried steps drifted until the drift's carried step kept its input's
+/// invariants, `an_elongated_body_after_a_torque_steps_as_a_free_one`). A gyrostat without torque
 /// holds `|m|^2` and `R(q) m` in f64; in f32 it carries instead (holding as well rounded the
 /// state without carrying that rounding, which fought the carry: 339x the sensitivity after
 /// `10^6` steps, now 0.6x, `an_f32_gyrostat_follows_f64`; `|m|^2` and `R(q) m` within
@@ -799,11 +781,9 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// The free integrator `drift` driven by `torque`, at time zero, without rotor.
     #[must_use]
     pub fn new(drift: D, torque: F) -> Self {
-        let mut forcing = Forcing::new(torque);
-        forcing.sticky = carries_after_torque(drift.body());
         Self {
             drift,
-            forcing,
+            forcing: Forcing::new(torque),
             turn: None,
         }
     }
@@ -893,7 +873,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// of order 2 when the values are those of a smooth torque history. The torques are taken
     /// to act, even when zero: the drift takes each step as an outside change and the state's
     /// rounding is carried ([`Forced`]), and in f32 every later step of this integrator
-    /// carries it too, torque or not, on a compact body ([`Forced`]'s error model: that keeps
+    /// carries it too, torque or not ([`Forced`]'s error model: that keeps
     /// the stretches between pulses on the trajectory). For a long free stretch without
     /// pulses, step the drift itself (its free-running step and holds, cheaper: M4F 370
     /// instead of 643 instructions).
