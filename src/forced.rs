@@ -876,7 +876,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// carries it too, torque or not ([`Forced`]'s error model: that keeps
     /// the stretches between pulses on the trajectory). For a long free stretch without
     /// pulses, step the drift itself (its free-running step and holds, cheaper: M4F 370
-    /// instead of 643 instructions).
+    /// instead of 646 instructions).
     ///
     /// # Errors
     ///

@@ -107,9 +107,6 @@ struct Track<T> {
     /// `delta` is small enough (`h |Omega|` small) that a free-running step keeps it as it
     /// is and runs the rational map: see [`Mv::system`] and [`Mv::advance_frozen`].
     may_freeze: bool,
-    /// The `alpha` above which a carried f32 step keeps its input's invariants: [`FIX_ALPHA`]
-    /// on a compact body, zero (every step) on an elongated one ([`FIX_SPREAD`]).
-    fix_alpha: T,
 }
 
 impl<T: Real> Track<T> {
@@ -135,7 +132,6 @@ impl<T: Real> Track<T> {
             newton_tol: T::ZERO,
             tol_unit: T::ZERO,
             may_freeze: false,
-            fix_alpha: T::ZERO,
         }
     }
 
@@ -167,12 +163,6 @@ impl<T: Real> Track<T> {
         self.two_s0 = s0 + s0;
         self.two_u0 = c::<T>(4.0) * s2_0;
         self.newton_tol = self.tol_unit * s0;
-        let (lo, hi) = (jn.x.min(jn.y).min(jn.z), jn.x.max(jn.y).max(jn.z));
-        self.fix_alpha = if hi <= c::<T>(FIX_SPREAD) * lo {
-            c::<T>(FIX_ALPHA)
-        } else {
-            T::ZERO
-        };
     }
 }
 
@@ -290,6 +280,10 @@ pub struct Mv<T> {
     /// step's).
     carry_m: Vec3<T>,
     carry_q: Quat<T>,
+    /// The `alpha` above which a carried f32 step keeps its input's invariants: [`FIX_ALPHA`]
+    /// on a compact body, zero (every step) on an elongated one ([`FIX_SPREAD`]); set with
+    /// the body (a `PreMv`'s modified bodies differ from its own by `O(h^2)` and keep it).
+    fix_alpha: T,
 }
 
 /// A step with attitude renormalises `q` and turns it back onto the spatial momentum (about
@@ -314,13 +308,13 @@ const DEADBAND: f64 = 16.0;
 /// plain ones, bit for bit. (A first version gated on `|h m / kappa|^2`, which follows
 /// `h |Omega|` only for compact bodies: on the rod it carried up to `h |Omega| = 0.1`.)
 const CARRY_TURN2: f64 = 1e-6;
-/// A carried f32 step moves its result back onto its input's invariants
+/// A carried f32 step on a compact body moves its result back onto its input's invariants
 /// ([`fix_from_increment`]) where `alpha = |h m / kappa|^2` is above this. `kappa` is at least
 /// `J_max` and `|Omega| >= |m| / (2 J_max)`, so there `h |Omega| > 5e-4`; the test is one
-/// comparison of a number the step has (a test on the increment's size cost the M4F's forced
-/// step 15 instructions, this one 9). Below, the bias the fix removes is below `3e-7` over
-/// `10^6` steps; a body spinning fast about its axis of least inertia can pass `h |Omega| =
-/// 5e-4` with a smaller `alpha` and is then left as it was.
+/// comparison with a number the step has (a test on the increment's size cost the M4F's
+/// forced step 15 instructions, this one with its per-body threshold 12). Below, the bias the
+/// fix removes is about `1e-13` of the energy a step on compact bodies (measured on three),
+/// `1e-7` over `10^6` steps, and the fix's own cost (about 180 instructions) is not spent.
 const FIX_ALPHA: f64 = 1e-6;
 /// A body whose mass matrix spreads by more than this (`J_max > FIX_SPREAD J_min`) has its
 /// carried f32 steps kept on their input's invariants at every `h`: there the bias does not
@@ -329,6 +323,17 @@ const FIX_ALPHA: f64 = 1e-6;
 /// drifted that body's carried free steps to 4.9e-5 rad from f64 in `10^6` steps, 1.0e-6 with
 /// the fix). The threshold is `Forced`'s for carrying after a torque (16, crate::forced).
 const FIX_SPREAD: f64 = 16.0;
+
+/// `Mv::fix_alpha` for `body` ([`FIX_ALPHA`], [`FIX_SPREAD`]).
+fn fix_alpha<T: Real>(body: &Body<T>) -> T {
+    let [j1, j2, j3] = body.mass_matrix();
+    let (lo, hi) = (j1.min(j2).min(j3), j1.max(j2).max(j3));
+    if hi <= c::<T>(FIX_SPREAD) * lo {
+        c::<T>(FIX_ALPHA)
+    } else {
+        T::ZERO
+    }
+}
 /// A hold step of the free-running map finds `|m|^2` within this many ulps of the anchored
 /// value (the steps between holds move it by about one each; the talk's case and random bodies
 /// stay below 3 in f32 and f64), or the map is stopped on the trajectory ([`Mv::refuse_map`]).
@@ -820,6 +825,7 @@ impl<T: Real> Mv<T> {
             frozen: None,
             carry_m: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
             carry_q: Quat::from_array([T::ZERO; 4]),
+            fix_alpha: fix_alpha(&body),
         }
     }
 
@@ -1319,7 +1325,7 @@ impl<T: Real> Mv<T> {
             Some((corr, corr_v)) => increment.add(t.invariant_fix(m, corr, corr_v)),
             // a carried f32 step at a large turn keeps its input's invariants
             // ([`fix_from_increment`], [`FIX_ALPHA`])
-            None if carries_rounding::<T>() && !plain && k.sum_a > t.fix_alpha => {
+            None if carries_rounding::<T>() && !plain && k.sum_a > self.fix_alpha => {
                 increment.add(fix_from_increment(m, increment, k.invariants(), t))
             }
             // a re-taken anchor has nothing to correct

@@ -24,7 +24,7 @@ pub const CORTEX_M4F: [(&str, &str, f64); 10] = [
     ("pre-mv6", "pre-mv6", 228.0),
     ("pre-mv8", "pre-mv8", 228.0),
     ("pre-mv10", "pre-mv10", 228.0),
-    ("rk4", "rk4", 119.0),
+    ("rk4", "rk4", 120.0),
     ("split µmath", "splitting", 306.0),
     ("split sin_cos", "splitting", 389.0),
     ("split libm", "splitting", 7153.0),
