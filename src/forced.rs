@@ -727,7 +727,7 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// input's `|m|^2` and energy, their change computed from the increment (crate::mv's
 /// `fix_from_increment`; a satellite tumbling at `h |Omega| = 0.02` under the gravity
 /// gradient had drifted its Jacobi integral by 4.5e-5 of the energy in `10^6` f32 steps and
-/// ended 200x the sensitivity below, now within 5e-7 and 0.4-2.5x; found by a first-use
+/// ended 200x the sensitivity below, now within 5e-7 and 0.4-1.6x; found by a first-use
 /// trial, tests/forced.rs `an_f32_satellite_tumbling_at_large_steps_keeps_its_jacobi_integral`). Measured in f32 at 200 Hz on a spacecraft-like body under
 /// a gravity gradient or a controller's torque, with and without wheels, against the same
 /// method in f64: attitude within 9e-7 rad and momentum within 9e-7 after `2 x 10^5` steps,
@@ -876,7 +876,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// carries it too, torque or not ([`Forced`]'s error model: that keeps
     /// the stretches between pulses on the trajectory). For a long free stretch without
     /// pulses, step the drift itself (its free-running step and holds, cheaper: M4F 370
-    /// instead of 646 instructions).
+    /// instead of 650 instructions).
     ///
     /// # Errors
     ///

@@ -174,6 +174,11 @@ struct Advanced<T> {
     /// What was added to `m` (the increment with the invariants' fix): `next = m + applied`
     /// rounded once, so `applied - (next - m)` is what that rounding lost.
     applied: Vec3<T>,
+    /// A carried step's fix onto its input's invariants ([`fix_from_increment`]), handed to
+    /// the carry whole: added to the increment it was below an ulp of it at large turns and
+    /// rounding dropped most of it (at `h |Omega| = 0.2` the fixed steps still drifted the
+    /// energy 5-30x more than the unfixed ones, found in review).
+    fix: Vec3<T>,
 }
 
 impl<T: Real> Advanced<T> {
@@ -182,7 +187,7 @@ impl<T: Real> Advanced<T> {
     #[inline(always)]
     fn carry_into(&self, m: Vec3<T>, lost: [T; 3]) -> [T; 3] {
         Vec3::from_array(lost)
-            .add(dropped_by_sum(m, self.applied, self.next))
+            .add(dropped_by_sum(m, self.applied, self.next).add(self.fix))
             .to_array()
     }
 }
@@ -462,21 +467,26 @@ fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> O
 /// [`Anchor::correction`] moves an input onto the anchored ones), with their change computed
 /// from the increment itself: `|m + inc|^2 - |m|^2 = sum inc_i (2 m_i + inc_i)` (and with
 /// weights `j_i^2` for `beta`), exact algebra whose rounding is relative to the increment,
-/// not to `m`.
+/// not to `m`. The fix is taken along the invariants' gradients at `m + inc`, where it is
+/// applied, and goes to the carry ([`Advanced::fix`]).
 ///
-/// Why: a carried f32 step at a large turn (`(h |Omega|)^2` above [`CARRY_TURN2`], where the
-/// anchor does not carry) changes `|m|^2` and the energy by about `eps (h |Omega|)^2` a step
-/// with the same sign along the trajectory: mean `-4.7e-11` of the energy at `h |Omega| =
-/// 0.02`, `-1e-12` at `0.002`, against a spread of `8e-8` that the carry takes back. The step's
-/// constants (the scaled body's `j_i^2`, `s1_0`, `s2_0`, `s3`, each rounded on its own) and the
-/// tracked root are rounded the same way at every step of a trajectory whose invariants do
-/// not move, so their error does not average out; a free trajectory's holds remove it, under
-/// a torque nothing is held. A satellite tumbling at 0.2 rad/s under the gravity gradient at
-/// 10 Hz drifted its Jacobi integral by `-4.5e-5` of the energy in `10^6` f32 steps and ended
-/// 200x the scene's sensitivity to one ulp of `m0` from f64 (a first-use trial); with this fix
-/// `2.2e-7` and 0.4x. The fix's own rounding is relative to the increment: about
-/// `eps h |Omega|` a step, unbiased, which is why it waits for large turns (below
-/// `h |Omega| = 1e-3` the bias over `10^6` steps is smaller than that noise would grow to).
+/// Why: a carried f32 step (every step of a forced integrator under a torque) changes `|m|^2`
+/// and the energy by a bias with the same sign along the trajectory: about `eps (h |Omega|)^2`
+/// a step on compact bodies (mean `-4.7e-11` of the energy at `h |Omega| = 0.02`, `-1e-12` at
+/// `0.002`, against a spread of `8e-8` that the carry takes back), more on elongated ones
+/// ([`FIX_SPREAD`]). The step's constants (the scaled body's `j_i^2`, `s1_0`, `s2_0`, `s3`,
+/// each rounded on its own) and the tracked root are rounded the same way at every step of a
+/// trajectory whose invariants do not move, so their error does not average out; a free
+/// trajectory's holds remove it, under a torque nothing is held. A satellite tumbling at
+/// 0.2 rad/s under the gravity gradient at 10 Hz drifted its Jacobi integral by `-4.5e-5` of
+/// the energy in `10^6` f32 steps and ended 200x the scene's sensitivity to one ulp of `m0`
+/// from f64 (a first-use trial); with this fix about `2e-7` and 0.4-1.6x. The fix's own
+/// rounding is relative to the increment: about `eps h |Omega|` a step, unbiased. Taken at
+/// `m` and added to the increment, a review found it leaving a bias of relative size
+/// `h |Omega|` and most of it rounded away (the fix is below an ulp of a large increment):
+/// at `h |Omega| = 0.2` on the talk's body the energy then drifted `-3e-5` in `10^6` steps,
+/// more than without the fix; now within `4e-6` either way (`|m|^2` 100x better than
+/// without).
 #[inline(never)]
 fn fix_from_increment<T: Real>(
     m: Vec3<T>,
@@ -496,12 +506,22 @@ fn fix_from_increment<T: Real>(
         // (the loop fuzz's `Degenerate` counts fell by 5-21 %)
         return Vec3::new(T::ZERO, T::ZERO, T::ZERO);
     }
-    let (x, y) = match energy_correction(k, t, da, db) {
+    // the fix is added to the result, so its effect on the invariants is taken there (at `m`
+    // it missed a part of relative size `h |Omega|`: at `h |Omega| = 0.2` a fifth of the
+    // bias was left, and the energy drifted 30x more than without the fix, found in review)
+    let end = mm.add(di);
+    let a = end.mul_elem(end);
+    let at_end = Invariants {
+        a,
+        sum_a: a.x + a.y + a.z,
+        beta: a.dot(t.j2),
+    };
+    let (x, y) = match energy_correction(at_end, t, da, db) {
         Some(xy) => xy,
-        None if k.sum_a > T::ZERO => (da * c::<T>(0.5) / k.sum_a, T::ZERO),
+        None if at_end.sum_a > T::ZERO => (da * c::<T>(0.5) / at_end.sum_a, T::ZERO),
         None => (T::ZERO, T::ZERO),
     };
-    let fix = t.invariant_fix(m, x, y);
+    let fix = t.invariant_fix(m.add(inc), x, y);
     if fix.is_finite() {
         fix
     } else {
@@ -1321,15 +1341,17 @@ impl<T: Real> Mv<T> {
         let sys = t.transposed_system(&k);
         let y = solve_cramer(&sys.lt, m, scale)?;
         let increment = t.increment_matrix(&sys).mul_vec(y);
-        let applied = match correction {
-            Some((corr, corr_v)) => increment.add(t.invariant_fix(m, corr, corr_v)),
-            // a carried f32 step at a large turn keeps its input's invariants
-            // ([`fix_from_increment`], [`FIX_ALPHA`])
-            None if carries_rounding::<T>() && !plain && k.sum_a > self.fix_alpha => {
-                increment.add(fix_from_increment(m, increment, k.invariants(), t))
-            }
+        let zero = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        let (applied, fix) = match correction {
+            Some((corr, corr_v)) => (increment.add(t.invariant_fix(m, corr, corr_v)), zero),
+            // a carried f32 step at a large turn keeps its input's invariants, through the
+            // carry ([`fix_from_increment`], [`FIX_ALPHA`])
+            None if carries_rounding::<T>() && !plain && k.sum_a > self.fix_alpha => (
+                increment,
+                fix_from_increment(m, increment, k.invariants(), t),
+            ),
             // a re-taken anchor has nothing to correct
-            None => increment,
+            None => (increment, zero),
         };
         // a plain step from its own last result adds what that step's rounding dropped
         let sum = if carries_rounding::<T>() && plain && follows {
@@ -1369,6 +1391,7 @@ impl<T: Real> Mv<T> {
             next,
             increment,
             applied,
+            fix,
         })
     }
 }
@@ -1496,6 +1519,7 @@ impl<T: Real> Mv<T> {
             next,
             increment,
             applied,
+            fix: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
         })
     }
 
