@@ -267,7 +267,7 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
     /// carried free steps drifted (`(8, 120, 122)`: 4.9e-5 rad from f64 in `10^6` steps, the
     /// free `Mv` 2.1e-6), and left to the holds it random-walked with pulses as above (22-58x
     /// the sensitivity on `(8, 120, 122)` and `(2, 100, 101)`); now every body carries, at
-    /// 0.45-1.5x (tests/forced.rs `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`).
+    /// 0.35-1.5x (tests/forced.rs `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`).
     #[inline(always)]
     pub(crate) fn carries(&self, rotor_turns: bool) -> bool {
         carries_rounding::<T>() && (rotor_turns || !self.torque.is_zero() || self.acted)
@@ -728,9 +728,10 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// `fix_from_increment`; a satellite tumbling at `h |Omega| = 0.02` under the gravity
 /// gradient had drifted its Jacobi integral by 4.5e-5 of the energy in `10^6` f32 steps and
 /// ended 200x the sensitivity below, now within 5e-7 and 0.4-1.6x; found by a first-use
-/// trial, tests/forced.rs `an_f32_satellite_tumbling_at_large_steps_keeps_its_jacobi_integral`). Measured in f32 at 200 Hz on a spacecraft-like body under
-/// a gravity gradient or a controller's torque, with and without wheels, against the same
-/// method in f64: attitude within 9e-7 rad and momentum within 9e-7 after `2 x 10^5` steps,
+/// trial, tests/forced.rs
+/// `an_f32_satellite_tumbling_at_large_steps_keeps_its_jacobi_integral`). Measured in f32 at
+/// 200 Hz on a spacecraft-like body under a gravity gradient or a controller's torque, with
+/// and without wheels, against the same method in f64: attitude within 9e-7 rad and momentum within 9e-7 after `2 x 10^5` steps,
 /// 4.3e-6 after `10^6` (without the carry: 2e-4 to 1.2e-3 rad after `2 x 10^5` steps, 5e-3 to
 /// 5e-2 after `10^6`); the gravity gradient's Jacobi integral within 4e-7 of the kinetic
 /// energy over `10^6` steps (1.8e-4 and 8.9e-4 with wheels before). Those attitude figures
@@ -744,17 +745,16 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// ([`crate::Mv`]), until a torque has acted or the rotor has turned the state: from then on,
 /// in f32, every step carries, torque or not (free stretches between thruster pulses left to
 /// the drift's holds took their invariants from the rounded state each time, and the
-/// attitude random-walked to 25-104x the scene's sensitivity; now 0.4-1.5x on compact and
-/// elongated bodies, tests/forced.rs `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`;
-/// an elongated body's carried steps drifted until the drift's carried step kept its input's
-/// invariants, `an_elongated_body_after_a_torque_steps_as_a_free_one`). A gyrostat without torque
-/// holds `|m|^2` and `R(q) m` in f64; in f32 it carries instead (holding as well rounded the
+/// attitude random-walked to 25-104x the scene's sensitivity; now 0.35-1.5x on compact and
+/// elongated bodies, tests/forced.rs
+/// `thruster_pulses_in_f32_stay_within_the_scenes_sensitivity`; an elongated body's carried
+/// steps drifted until the drift's carried step kept its input's invariants,
+/// `an_elongated_body_after_a_torque_steps_as_a_free_one`). A gyrostat without torque holds `|m|^2` and `R(q) m` in f64; in f32 it carries instead (holding as well rounded the
 /// state without carrying that rounding, which fought the carry: 339x the sensitivity after
 /// `10^6` steps, now 0.6x, `an_f32_gyrostat_follows_f64`; `|m|^2` and `R(q) m` within
 /// 3.5e-7 over `10^6` steps and 1.6-3.0e-6 over `10^7`, where the holds kept 3e-7). Where
 /// the exact increment is zero (a sphere, whose `m` a torque-free step leaves as it is) the
-/// carry also
-/// keeps the increments' own round-off, about `1e-4` ulp a step at `h |Omega| = 5e-4` (more at
+/// carry also keeps the increments' own round-off, about `1e-4` ulp a step at `h |Omega| = 5e-4` (more at
 /// faster turns: 5e-3 ulp a step at `2.5e-3`, bounded from `10^5` to `10^6` steps), which
 /// rounding used to drop: on a sphere in f32 `m` moves 70 to 125 ulps (1.2e-5) in `10^6` steps
 /// of `step_state_with` with zero torques or a small constant torque (it stayed within 4 ulps
