@@ -459,7 +459,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
             });
         }
         let body = *self.stages[0].body();
-        let (r, w) = Forcing::<T, F>::checked_rotor(&body, h_r)?;
+        let [r, w, _] = Forcing::<T, F>::checked_rotor(&body, h_r)?;
         let (turns, check) = Self::turns_for(w, &self.drift_len);
         if check == Err(StepError::StepTooLarge) {
             return Err(StepError::StepTooLarge);

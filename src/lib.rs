@@ -141,6 +141,7 @@ mod error;
 mod exact;
 mod forced;
 mod forced_composed;
+mod forced_relative;
 mod forced_rk4;
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
 mod fpu_sqrt;
