@@ -37,7 +37,7 @@
 //! `n' = h_r x I^-1 n` (crate::forced_relative): there the turns' two fast parts nearly
 //! cancel and their splitting error and rounding are of their size, not of the motion's
 //! (a cubesat with a momentum-bias wheel: 4500x the error in f64, 200x the sensitivity in
-//! f32). [`Composed`] keeps the turns.
+//! f32). [`Composed`] makes the same choice once a step, for all its stages.
 //!
 //! # What is conserved
 //!

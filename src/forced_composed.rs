@@ -48,6 +48,7 @@ use crate::error::StepError;
 use crate::forced::{
     carried_for, forcing_accessors, half_turn, kick, turn_momentum, turn_state, Forcing,
 };
+use crate::forced_relative::{relative_applies, Relative, RelativeStep};
 use crate::integrator::{carries_rounding, checked_momentum, checked_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -492,6 +493,15 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         (turns, check)
     }
 
+    /// The rotor `h_r` when the step from `m` takes the relative splitting (as
+    /// [`crate::Forced`]'s: crate::forced_relative; the same for every stage of the step, so
+    /// the composition keeps its order), `None` for the turns.
+    #[inline(always)]
+    fn relative(&self, m: Vec3<T>) -> Option<Vec3<T>> {
+        let h_r = self.forcing.rotor;
+        (self.turns[0].is_some() && relative_applies(m, h_r, self.inv_i)).then_some(h_r)
+    }
+
     fn update_turns(&mut self) {
         (self.turns, self.turn_check) = Self::turns_for(self.forcing.rotor_w, &self.drift_len);
     }
@@ -582,6 +592,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         let carry = carries_rounding::<T>();
         // the turns' and the drifts' roundings join the carry after the last kick, as in `step`
         let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        let rel = self.relative(m0);
         for (k, ((&i, &b), &g)) in self
             .pattern
             .iter()
@@ -590,7 +601,15 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
             .enumerate()
         {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
-            if let Some(p) = turn {
+            let rel = rel.map(|h_r| RelativeStep {
+                consts: Relative::new(h_r, self.inv_i, a),
+                h_r,
+            });
+            if let Some(r) = rel {
+                // the kicks' carried rounding joins `n` (crate::forced_relative's `enter`)
+                let (n, dropped, left) = r.enter(m, lost, carry);
+                (m, pending, lost) = (n, pending.add(dropped), left);
+            } else if let Some(p) = turn {
                 ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
             }
             // a non-finite kick makes the drift's input non-finite, and the drift refuses it
@@ -601,7 +620,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
             (pending, lost_q) = (Vec3::from_array(dropped.m), Quat::from_array(dropped.q));
             m = Vec3::from_array(st.m);
             q = Quat::from_array(st.q);
-            if let Some(p) = turn {
+            if let Some(r) = rel {
+                (m, pending) = r.leave(m, pending, carry);
+            } else if let Some(p) = turn {
                 ((m, q), (pending, lost_q)) = turn_state(p, (m, q), (pending, lost_q), carry);
             }
             // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
@@ -625,7 +646,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
             return Err(blown(tau));
         }
         // (as in `step`)
-        if self.turns[0].is_some() && !carry {
+        if self.turns[0].is_some() && !carry && rel.is_none() {
             m = self.forcing.hold_casimir(m0, m);
             q = self.forcing.hold_spatial(m0, q0, m, q);
         }
@@ -749,6 +770,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         // the turns' and the drifts' roundings join the carry after the last kick, off the
         // step's critical path (crate::forced's kdk)
         let mut pending = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+        let rel = self.relative(v0);
         for (k, ((&i, &b), &g)) in self
             .pattern
             .iter()
@@ -757,7 +779,15 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             .enumerate()
         {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
-            if let Some(p) = turn {
+            let rel = rel.map(|h_r| RelativeStep {
+                consts: Relative::new(h_r, self.inv_i, a),
+                h_r,
+            });
+            if let Some(r) = rel {
+                // (as in step_state_given)
+                let (n, dropped, left) = r.enter(v, lost, carry);
+                (v, pending, lost) = (n, pending.add(dropped), left);
+            } else if let Some(p) = turn {
                 (v, pending) = turn_momentum(p, v, pending, carry);
             }
             let mut arr = v.to_array();
@@ -766,7 +796,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             d.step_carrying(&mut arr, &mut dropped, carry)?;
             pending = Vec3::from_array(dropped);
             v = Vec3::from_array(arr);
-            if let Some(p) = turn {
+            if let Some(r) = rel {
+                (v, pending) = r.leave(v, pending, carry);
+            } else if let Some(p) = turn {
                 (v, pending) = turn_momentum(p, v, pending, carry);
             }
             // the stages' rounded `a_i h` need not sum to `h`: the step ends at `t + h` exactly
@@ -778,8 +810,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         if !v.is_finite() {
             return Err(blown(tau));
         }
-        // the gyrostat's holds only where the rounding is not carried (f64; crate::forced)
-        if self.turns[0].is_some() && !carry {
+        // the gyrostat's holds only where the rounding is not carried (f64; crate::forced),
+        // and not after relative steps (crate::forced's step_state)
+        if self.turns[0].is_some() && !carry && rel.is_none() {
             v = self.forcing.hold_casimir(v0, v);
         }
         self.forcing.lost.m = if carry { lost.add(pending) } else { lost }.to_array();

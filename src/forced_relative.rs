@@ -1,5 +1,6 @@
-//! The gyrostat's relative splitting: the rotor step [`crate::Forced`] takes when the wheels
-//! turn the body faster than its own motion does.
+//! The gyrostat's relative splitting: the rotor step [`crate::Forced`] (and every stage of
+//! [`crate::Composed`], chosen once a step) takes when the wheels turn the body faster than
+//! its own motion does.
 //!
 //! # Derivation
 //!
