@@ -62,7 +62,8 @@ fn main() -> Result<(), StepError> {
             continue;
         }
         // an f32 clock loses resolution as it grows (7.8 ms at one day): re-base it once an
-        // orbit, which leaves the circular orbit's gravity gradient as it was
+        // orbit, which leaves the circular orbit's gravity gradient as it was to within
+        // N P - 2 pi (2.6e-7 to 4e-7 rad a re-base in f32: up to 4e-4 after 1000 orbits)
         if f.time() >= period {
             f.set_time(f.time() - period)?;
         }

@@ -203,7 +203,9 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// `N ulp(t)`, about `5e-4` rad (the torque measured `7e-4` relative off its f64 value there,
 /// `1.3e-4` at `1e6 s`). A long f32 mission keeps `t` small: re-base it with
 /// [`crate::Forced::set_time`] once per orbit (the torque is periodic in `t` with period
-/// `2 pi / N`), or runs the clock in f64. `inertia` must be the integrated body's principal
+/// `2 pi / N`; each re-base by the rounded period moves the phase by `N P - 2 pi`,
+/// 2.6e-7 to `4e-7` rad in f32 with `P = 5700 s`, as `N` was rounded), or runs the clock in
+/// f64. `inertia` must be the integrated body's principal
 /// moments (`body.inertia()`, not the diagonal of an inertia tensor with products of
 /// inertia): [`GravityGradient::circular`] takes them from the body. It is not checked
 /// against the integrator's body.
