@@ -237,6 +237,12 @@ fn gram_schmidt<T: Real>(top: Mat3<T>, bottom: Mat3<T>) -> Result<(Mat3<T>, Mat3
 impl<T: Real> Integrator<T> for SeedMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let v = checked_momentum(m)?;
+        // a zero step leaves the state as it is ([`Integrator::set_step_size`]); solved, its
+        // rotation came out an ulp from the identity (2.2e-13 over 1000 paused steps, found
+        // by a first-use trial)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let x = self.solve(v)?;
         let next = x.transpose_mul_vec(v);
         write_momentum(m, next)
@@ -244,6 +250,10 @@ impl<T: Real> Integrator<T> for SeedMv<T> {
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
+        // (as in step)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let x = self.solve(v)?;
         let next = x.transpose_mul_vec(v);
         write_state(s, next, compose_attitude(q, Quat::from_mat3(&x)))
