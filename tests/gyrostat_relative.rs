@@ -37,6 +37,40 @@ fn wide<T: Real>(s: &State<T>) -> State<f64> {
     State::new(s.m.map(|x| x.to_f64()), s.q.map(|x| x.to_f64()))
 }
 
+/// `n` steps at 1 kHz of an f32 integrator and two f64 twins (from the f32-rounded `m0` and
+/// one f32 ulp of `m0_x` up): the attitude's distance from f64, the scene's sensitivity (the
+/// twins' distance), and the largest relative energy error of the f32 run in each half.
+fn f32_against_f64(
+    make32: impl Fn(f64) -> Box<dyn Integrator<f32>>,
+    make64: impl Fn(f64) -> Box<dyn Integrator<f64>>,
+    n: usize,
+) -> (f64, f64, [f64; 2]) {
+    let h = f64::from(0.001f32);
+    let m32 = m0().map(|x| x as f32);
+    let start = |m: [f64; 3]| State::new(m, [1.0, 0.0, 0.0, 0.0]);
+    let mut a32 = make32(h);
+    let mut s32 = State::new(m32, [1.0f32, 0.0, 0.0, 0.0]);
+    let mut a64 = [make64(h), make64(h)];
+    let mut up = m32.map(f64::from);
+    up[0] = f64::from(m32[0].next_up());
+    let mut s64 = [start(m32.map(f64::from)), start(up)];
+    let e0 = energy(m32.map(f64::from));
+    let mut de = [0.0f64; 2];
+    for k in 0..n {
+        a32.step_state(&mut s32).unwrap();
+        for (a, s) in a64.iter_mut().zip(s64.iter_mut()) {
+            a.step_state(s).unwrap();
+        }
+        if k % 100 == 0 {
+            let e = (energy(wide(&s32).m) / e0 - 1.0).abs();
+            de[usize::from(k >= n / 2)] = de[usize::from(k >= n / 2)].max(e);
+        }
+    }
+    let err = common::qdist(wide(&s32).q, s64[0].q);
+    let sens = common::qdist(s64[1].q, s64[0].q);
+    (err, sens, de)
+}
+
 /// Attitude and momentum after 10 s against RK4 at 1/32 of the smallest step: second order,
 /// and at 1600 steps (`h = 6.25 ms`) within `2e-5` rad (measured 5.2e-6). The turn–drift–turn
 /// step it replaces here ended `2.3e-2` rad off at 1600 steps (`9.3e-2` at 800, 4500x): its
@@ -120,30 +154,11 @@ fn a_wheel_dominated_gyrostat_keeps_its_energy() {
 /// rounding, relative to its own fast turn, was large against the slow motion.
 #[test]
 fn a_wheel_dominated_f32_gyrostat_follows_f64() {
-    let h = f64::from(0.001f32);
-    let m32 = m0().map(|x| x as f32);
-    let start = |m: [f64; 3]| State::new(m, [1.0, 0.0, 0.0, 0.0]);
-    let mut f32_ = forced::<f32>(h);
-    let mut s32 = State::new(m32, [1.0f32, 0.0, 0.0, 0.0]);
-    let mut f64_ = [forced::<f64>(h), forced::<f64>(h)];
-    let mut up = m32.map(f64::from);
-    up[0] = f64::from(m32[0].next_up());
-    let mut s64 = [start(m32.map(f64::from)), start(up)];
-    let e0 = energy(m32.map(f64::from));
-    let mut de = [0.0f64; 2];
-    let n = 1_000_000;
-    for k in 0..n {
-        f32_.step_state(&mut s32).unwrap();
-        for (f, s) in f64_.iter_mut().zip(s64.iter_mut()) {
-            f.step_state(s).unwrap();
-        }
-        if k % 100 == 0 {
-            let e = (energy(wide(&s32).m) / e0 - 1.0).abs();
-            de[usize::from(k >= n / 2)] = de[usize::from(k >= n / 2)].max(e);
-        }
-    }
-    let err = common::qdist(wide(&s32).q, s64[0].q);
-    let sens = common::qdist(s64[1].q, s64[0].q);
+    let (err, sens, de) = f32_against_f64(
+        |h| Box::new(forced::<f32>(h)),
+        |h| Box::new(forced::<f64>(h)),
+        1_000_000,
+    );
     println!("wheel-dominated f32 gyrostat, 1e6 steps: attitude {err:.2e} rad, sensitivity {sens:.2e}, energy {de:?}");
     assert!(err <= 3.0 * sens, "{err:e} vs {sens:e}");
     assert!(de[1] <= 1e-4 && de[1] <= 2.0 * de[0], "{de:?}");
@@ -214,32 +229,11 @@ fn composed_takes_the_relative_splitting_too() {
     );
     assert!((order - 4.0).abs() <= 0.15, "{order}");
 
-    let h = f64::from(0.001f32);
-    let m32 = m0().map(|x| x as f32);
-    let mut c32 = composed::<f32>(h);
-    let mut s32 = State::new(m32, [1.0f32, 0.0, 0.0, 0.0]);
-    let mut c64 = [composed::<f64>(h), composed::<f64>(h)];
-    let mut up = m32.map(f64::from);
-    up[0] = f64::from(m32[0].next_up());
-    let mut s64 = [
-        State::new(m32.map(f64::from), [1.0, 0.0, 0.0, 0.0]),
-        State::new(up, [1.0, 0.0, 0.0, 0.0]),
-    ];
-    let e0 = energy(m32.map(f64::from));
-    let mut de = [0.0f64; 2];
-    let n = 200_000;
-    for k in 0..n {
-        c32.step_state(&mut s32).unwrap();
-        for (c, s) in c64.iter_mut().zip(s64.iter_mut()) {
-            c.step_state(s).unwrap();
-        }
-        if k % 100 == 0 {
-            let e = (energy(wide(&s32).m) / e0 - 1.0).abs();
-            de[usize::from(k >= n / 2)] = de[usize::from(k >= n / 2)].max(e);
-        }
-    }
-    let err = common::qdist(wide(&s32).q, s64[0].q);
-    let sens = common::qdist(s64[1].q, s64[0].q);
+    let (err, sens, de) = f32_against_f64(
+        |h| Box::new(composed::<f32>(h)),
+        |h| Box::new(composed::<f64>(h)),
+        200_000,
+    );
     println!("composed order 4, f32, 2e5 steps: attitude {err:.2e} rad, sensitivity {sens:.2e}, energy {de:?}");
     assert!(err <= 3.0 * sens, "{err:e} vs {sens:e}");
     assert!(de[1] <= 1e-4 && de[1] <= 2.0 * de[0], "{de:?}");
