@@ -71,6 +71,28 @@ fn f32_against_f64(
     (err, sens, de)
 }
 
+/// The state after 10 s from `m0()` by RK4 (`ForcedRk4`, a different algorithm) at `fine`
+/// steps.
+fn rk4_at_10(fine: usize) -> State<f64> {
+    let body = Body::<f64>::from_inertia(INERTIA).unwrap();
+    let mut rk = ForcedRk4::new(body, 10.0 / fine as f64, NoTorque);
+    rk.set_rotor(WHEELS).unwrap();
+    let mut r = State::new(m0(), [1.0, 0.0, 0.0, 0.0]);
+    for _ in 0..fine {
+        rk.step_state(&mut r).unwrap();
+    }
+    r
+}
+
+/// The state after 10 s from `m0()` in `n` steps of `a` (made with `h = 10 / n`).
+fn at_10(mut a: Box<dyn Integrator<f64>>, n: usize) -> State<f64> {
+    let mut s = State::new(m0(), [1.0, 0.0, 0.0, 0.0]);
+    for _ in 0..n {
+        a.step_state(&mut s).unwrap();
+    }
+    s
+}
+
 /// Attitude and momentum after 10 s against RK4 at 1/32 of the smallest step: second order,
 /// and at 1600 steps (`h = 6.25 ms`) within `2e-5` rad (measured 5.2e-6). The turn–drift–turn
 /// step it replaces here ended `2.3e-2` rad off at 1600 steps (`9.3e-2` at 800, 4500x): its
@@ -78,24 +100,11 @@ fn f32_against_f64(
 /// their size, not of the motion's (0.026 rad/s).
 #[test]
 fn a_wheel_dominated_gyrostat_is_second_order_against_rk4() {
-    let t = 10.0;
-    let body = Body::<f64>::from_inertia(INERTIA).unwrap();
-    let s0 = State::new(m0(), [1.0, 0.0, 0.0, 0.0]);
-    let fine = 1600 * 32;
-    let mut rk = ForcedRk4::new(body, t / fine as f64, NoTorque);
-    rk.set_rotor(WHEELS).unwrap();
-    let mut r = s0;
-    for _ in 0..fine {
-        rk.step_state(&mut r).unwrap();
-    }
+    let r = rk4_at_10(1600 * 32);
     let (mut hs, mut eq, mut em) = (vec![], vec![], vec![]);
     for n in [400usize, 800, 1600] {
-        let h = t / n as f64;
-        let mut f = forced::<f64>(h);
-        let mut s = s0;
-        for _ in 0..n {
-            f.step_state(&mut s).unwrap();
-        }
+        let h = 10.0 / n as f64;
+        let s = at_10(Box::new(forced::<f64>(h)), n);
         hs.push(h);
         eq.push(common::qdist(s.q, r.q));
         em.push(common::dist(s.m, r.m) / common::norm(r.m));
@@ -202,24 +211,11 @@ fn composed<T: Real>(h: f64) -> rigid3::Composed<T, Mv<T>, NoTorque> {
 /// energy drifted (1.8e-4 then 3.2e-4).
 #[test]
 fn composed_takes_the_relative_splitting_too() {
-    let t = 10.0;
-    let body = Body::<f64>::from_inertia(INERTIA).unwrap();
-    let s0 = State::new(m0(), [1.0, 0.0, 0.0, 0.0]);
-    let fine = 400 * 128;
-    let mut rk = ForcedRk4::new(body, t / fine as f64, NoTorque);
-    rk.set_rotor(WHEELS).unwrap();
-    let mut r = s0;
-    for _ in 0..fine {
-        rk.step_state(&mut r).unwrap();
-    }
+    let r = rk4_at_10(400 * 128);
     let (mut hs, mut eq) = (vec![], vec![]);
     for n in [100usize, 200, 400] {
-        let h = t / n as f64;
-        let mut c = composed::<f64>(h);
-        let mut s = s0;
-        for _ in 0..n {
-            c.step_state(&mut s).unwrap();
-        }
+        let h = 10.0 / n as f64;
+        let s = at_10(Box::new(composed::<f64>(h)), n);
         hs.push(h);
         eq.push(common::qdist(s.q, r.q));
     }
