@@ -793,6 +793,13 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// only the kicks' rounding is carried: the walk is `1e-16` a step there, below the method's
 /// error, and the carry's flops would buy nothing.
 ///
+/// The bounded energy error of a potential torque is a property of a fixed step: with a step
+/// that changes every tick the map changes with it, and the error can grow slowly (a
+/// first-use trial, heavy top in f64 with `h` drawn from 1/144 to 1/30 s and 0.2 % hitches of
+/// 0.1 s: energy error 3.7e-3 over the first half of `10^6` steps and 8.7e-3 over the second;
+/// [`crate::Composed`] order 4 3.9e-6 then 6.9e-6). What does not depend on the step stays:
+/// the heavy top's vertical momentum `e_z . R(q) m` held to 3e-14 there.
+///
 /// A step that fails (past the drift's limit, a non-finite torque) returns `Err` and leaves
 /// the state and the time untouched.
 #[derive(Clone, Debug)]
