@@ -30,8 +30,9 @@
 //! drift's. The turn conserves `|m|^2` and `R(q) m` exactly, the kick conserves the spatial
 //! momentum about any axis the torque has no component on (the vertical, for gravity).
 //!
-//! When the wheels turn the body faster than its own motion (`|I^-1 (m - h_r)| <= |I^-1 m| /
-//! 2` at the step's start) [`Forced`] splits the rotor's part by its Poisson tensor instead:
+//! When the wheels turn the body well faster than its own energy allows (`|I^-1 h_r| >= 3.6
+//! sqrt(2 E max_i 1/I_i)`, `E = 1/2 (m - h_r) . I^-1 (m - h_r)`; staying while above 2.4
+//! times) [`Forced`] splits the rotor's part by its Poisson tensor instead:
 //! `turn(h/2) drift(h) turn(h/2)` becomes `half(h/2) drift(h) half(h/2)` with the drift
 //! stepping the relative momentum `n = m - h_r` and `half` the gyroscopic term
 //! `n' = h_r x I^-1 n` (crate::forced_relative): there the turns' two fast parts nearly
@@ -56,7 +57,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::forced_relative::{relative_applies, Relative, RelativeStep};
+use crate::forced_relative::{relative_wanted, Relative, RelativeStep, RotorRates};
 use crate::integrator::{
     carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
     turn_in_space, Integrator, State,
@@ -811,9 +812,13 @@ pub struct Forced<T, D, F> {
     /// refuses the turned, non-finite input, and the step reports why ([`Forced::refusal`]). No
     /// test on the step's path: an early return there cost the M4F 68 instructions a step.
     turn: Option<Quat<T>>,
-    /// `I^-1`, for the relative splitting (crate::forced_relative), which a step with a rotor
-    /// takes when the body turns at most half as fast as `I^-1 m` (set with the rotor).
+    /// `I^-1` and the rotor's rates, for the relative splitting (crate::forced_relative),
+    /// which a step with a rotor takes when the wheels turn the body well faster than its own
+    /// energy allows (set with the rotor), and whether the last step took it (the choice's
+    /// margin).
     inv_i: Vec3<T>,
+    rates: RotorRates<T>,
+    relative_on: bool,
 }
 
 impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
@@ -825,6 +830,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
             forcing: Forcing::new(torque),
             turn: None,
             inv_i: Vec3::new(T::ZERO, T::ZERO, T::ZERO),
+            rates: RotorRates::none(),
+            relative_on: false,
         }
     }
 
@@ -837,7 +844,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// leaves `m` and `R(q) m` as they are. With a step size that is not finite the rotor is
     /// taken and the steps refuse (`NonFinite`) until `h` is finite. Each step chooses how it
     /// splits the rotor's part: turns about `I^-1 h_r`, or, when the wheels turn the body
-    /// faster than its own motion, the relative splitting (module docs).
+    /// well faster than its own energy allows, the relative splitting (module docs,
+    /// [`Forced::takes_relative_split`]).
     ///
     /// The limit below is the turns'; the relative splitting has none, but a step it would
     /// take is refused with the turns' (kept as it was, for the steps that take the turns).
@@ -858,6 +866,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         self.forcing.rotor = r;
         self.forcing.rotor_w = w;
         self.inv_i = inv_i;
+        self.rates = RotorRates::new(w, inv_i);
         self.set_turn(turn);
         Ok(())
     }
@@ -877,14 +886,39 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         };
     }
 
+    /// Whether the next step from momentum `m`, with the rotor set to `h_r` first, takes the
+    /// relative splitting instead of the turns (module docs, crate::forced_relative's
+    /// `relative_wanted`: the wheels turn the body at least 3.6 times the fastest rate its
+    /// energy allows, 2.4 times while the last step took it). For tangent maps of the step
+    /// built outside the library (the firmware's EKF composes the step's Jacobian from its
+    /// parts). False without rotor, for a non-finite input, and where the rotor's turn is
+    /// refused at the current step size.
+    #[must_use]
+    pub fn takes_relative_split(&self, m: &[T; 3], h_r: &[T; 3]) -> bool {
+        let inv_i = self.drift.body().inverse_inertia();
+        let h_r = Vec3::from_array(*h_r);
+        let w = h_r.mul_elem(inv_i);
+        matches!(half_turn(w, self.drift.step_size()), Ok(Some(_)))
+            && relative_wanted(
+                Vec3::from_array(*m),
+                h_r,
+                inv_i,
+                RotorRates::new(w, inv_i),
+                self.relative_on,
+            )
+    }
+
     /// The relative splitting's step for a step from `m`, if it takes it
-    /// ([`relative_applies`]; never while the rotor's turn is refused, whose infinite
+    /// ([`relative_wanted`]; never while the rotor's turn is refused, whose infinite
     /// quaternion the drift then refuses).
     #[inline(always)]
     fn relative_for(&self, m: Vec3<T>) -> Option<RelativeStep<T>> {
         let h_r = self.forcing.rotor;
         match self.turn {
-            Some(p) if p.w <= T::MAX && relative_applies(m, h_r, self.inv_i) => {
+            Some(p)
+                if p.w <= T::MAX
+                    && relative_wanted(m, h_r, self.inv_i, self.rates, self.relative_on) =>
+            {
                 Some(RelativeStep {
                     consts: Relative::new(h_r, self.inv_i, self.drift.step_size()),
                     h_r,
@@ -993,6 +1027,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         self.forcing.clock = clock;
         self.forcing.last = None;
         self.forcing.mark_acted(true);
+        self.relative_on = rel.is_some();
         Ok(())
     }
 
@@ -1062,6 +1097,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         .map_err(|e| self.refusal(e))?;
         self.forcing.commit(s, m, q, clock, lost, tau1);
         self.forcing.mark_acted(true);
+        self.relative_on = rel.is_some();
         Ok(())
     }
 }
@@ -1103,6 +1139,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
             next
         };
         self.forcing.mark_acted(carry);
+        self.relative_on = rel.is_some();
         self.forcing.lost.m = lost.to_array();
         *m = next.to_array();
         self.forcing.clock = clock;
@@ -1150,6 +1187,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
         };
         self.forcing.commit(s, m, q, clock, lost, tau1);
         self.forcing.mark_acted(carry);
+        self.relative_on = rel.is_some();
         Ok(())
     }
 
@@ -1180,5 +1218,6 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
     fn reset(&mut self) {
         self.drift.reset();
         self.forcing.forget();
+        self.relative_on = false;
     }
 }

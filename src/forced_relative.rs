@@ -51,9 +51,11 @@
 //! splittings' free rates: the relative splitting 1.4-150x more accurate for `r < 0.9`, the
 //! two within 12 % for `0.95 < r < 1.02`, and above mostly the turns, by up to 53x (a
 //! momentum nearly cancelled by the wheels, where the turns are nearly exact; 4 of 38 draws
-//! favoured the relative splitting, by up to 2.6x). The step takes this splitting when
-//! `r <= 1/2` at its start (12 flops; [`relative_applies`]), where all 13 draws favoured it
-//! in attitude by 10.6x or more (in momentum 0.64-19x), and the turns otherwise. The
+//! favoured the relative splitting, by up to 2.6x). Where `r <= 1/2` all 13 draws favoured
+//! it in attitude by 10.6x or more (in momentum 0.64-19x). The step takes it where that holds
+//! all along the torque-free orbit, which a test of the energy and the rotor alone decides
+//! ([`relative_wanted`], with a margin): a choice from `r` at each step's start (a first
+//! version) mixed the splittings on orbits that cross `r = 1/2`, and they drifted. The
 //! gyroscopic half step's constants are formed by the step that takes it (three products
 //! and a division).
 
@@ -61,18 +63,58 @@ use crate::forced::kick;
 use crate::linalg::Vec3;
 use crate::real::{c, Real};
 
-/// Whether the step from `m` takes the relative splitting (`I^-1` is `inv_i`): when the body
-/// turns at most half as fast as the turns' split would have its drift turn it,
-/// `|I^-1 (m - h_r)| <= |I^-1 m| / 2` (false for a non-finite `m`, which the turns' path
-/// refuses). Each splitting's error grows with the rate of its free part (module docs); near
-/// equal rates the two are equally accurate, and a trajectory that crossed the boundary back
-/// and forth mixed them (the talk's gyrostat at `h = 0.05` with the boundary at equal rates:
-/// an energy error of 1.4e-2).
+/// The rotor's constants for [`relative_wanted`]: `|I^-1 h_r|^2` and `max_i 1 / I_i`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RotorRates<T> {
+    w_r2: T,
+    inv_i_max: T,
+}
+
+impl<T: Real> RotorRates<T> {
+    /// No rotor (never relative).
+    pub(crate) fn none() -> Self {
+        Self {
+            w_r2: T::ZERO,
+            inv_i_max: T::ZERO,
+        }
+    }
+
+    /// For the rotor's `w_r = I^-1 h_r` and the body's `I^-1`.
+    pub(crate) fn new(w_r: Vec3<T>, inv_i: Vec3<T>) -> Self {
+        Self {
+            w_r2: w_r.norm2(),
+            inv_i_max: inv_i.x.max(inv_i.y).max(inv_i.z),
+        }
+    }
+}
+
+/// Whether the step from `m` takes the relative splitting, given whether the last step did
+/// (`was`): when the wheels turn the body at least `3.6` times (staying: `2.4` times) the
+/// fastest rate its own energy allows, `|I^-1 h_r| >= 3.6 sqrt(2 E max_i 1/I_i)`,
+/// `E = 1/2 (m - h_r) . I^-1 (m - h_r)` (`|Omega|^2 <= 2 E max_i 1/I_i`). Then
+/// `|I^-1 m| >= |I^-1 h_r| - |Omega| >= 2 |Omega|` all along the torque-free orbit, so the
+/// relative splitting is the more accurate one everywhere on it (module docs: `r <= 1/2`),
+/// and, the test depending only on the energy and the rotor, a torque-free trajectory with
+/// constant wheels never changes splitting. Decided per step from `|Omega| / |I^-1 m|`
+/// instead (a first version), trajectories whose ratio swung across the threshold mixed the
+/// two splittings, each keeping other invariants, and drifted: the energy 7e-3 and `|m|^2`
+/// 7e-4 after `10^6` steps of `I = (1, 2, 3)`, `h_r = (0, 0, 3)` at `h = 0.01`, where either
+/// splitting alone stays bounded (found in review). The margin between 3.6 and 2.4 keeps
+/// round-off and slow torques from flipping it back and forth. False for a non-finite `m`
+/// (the turns' path refuses it). About 10 flops.
 #[inline(always)]
-pub(crate) fn relative_applies<T: Real>(m: Vec3<T>, h_r: Vec3<T>, inv_i: Vec3<T>) -> bool {
-    let w = m.sub(h_r).mul_elem(inv_i);
-    let free = m.mul_elem(inv_i);
-    c::<T>(4.0) * w.norm2() <= free.norm2()
+pub(crate) fn relative_wanted<T: Real>(
+    m: Vec3<T>,
+    h_r: Vec3<T>,
+    inv_i: Vec3<T>,
+    rates: RotorRates<T>,
+    was: bool,
+) -> bool {
+    let n = m.sub(h_r);
+    let two_e = n.dot(n.mul_elem(inv_i));
+    // 3.6^2 = 12.96 to enter, 2.4^2 = 5.76 to stay
+    let k = if was { c::<T>(5.76) } else { c::<T>(12.96) };
+    rates.w_r2 >= k * two_e * rates.inv_i_max
 }
 
 /// The gyroscopic half step's constants for one rotor and one step size.

@@ -206,12 +206,13 @@ fn mul6(a: &M6, b: &M6) -> M6 {
 /// The step's Jacobian `F = d(m', dtheta') / d(m, dtheta)` (6x6, row-major, momentum first,
 /// then the body-frame attitude error of `q = q^ (x) exp(dtheta / 2)`: `rigid3::tangent`'s
 /// coordinates) at the state `s` before a step of length `h`, wheels `hw`, gravity gradient `gg`
-/// (its orbit angle that of the tick's start).
+/// (its orbit angle that of the tick's start); `relative`: the step takes the library's
+/// relative splitting (`Forced::takes_relative_split`).
 ///
 /// THE ONE PLACE the covariance gets its transition; [`JACOBIAN`] picks the map:
 /// - [`Jacobian::Dmv`]: the forced step's exact tangent map, `K1 T D T K0` (with the
-///   library's relative splitting, taken when the wheels turn the body faster than its own
-///   motion, `T` is the gyroscopic half step's matrix on the momentum), where
+///   library's relative splitting, taken when the wheels turn the body well faster than its
+///   own energy allows, `T` is the gyroscopic half step's matrix on the momentum), where
 ///   `K = [[I, h/2 G], [0, I]]` is a kick (`G = dtau/dtheta`), `T = diag(P^T, P^T)` the rotor's
 ///   half-step turn `p` (`m <- R(p)^T m`, `q <- q (x) p`), and `D` the DMV drift's Jacobian from
 ///   rigid3's `Mv::step_with_jacobian` (`scratch` takes that step; the state itself is stepped
@@ -220,6 +221,7 @@ fn mul6(a: &M6, b: &M6) -> M6 {
 ///   forced dynamics, `A = [[hat(m) I^-1 - hat(W), G], [I^-1, -hat(W)]]`,
 ///   `W = I^-1 (m - hw)` (error `O(h^2 |A|^2)`, about 1e-9 per tick here).
 #[inline(never)]
+#[allow(clippy::too_many_arguments)]
 pub fn transition(
     scratch: &mut Mv<f32>,
     s: &State<f32>,
@@ -227,8 +229,9 @@ pub fn transition(
     hw: [f32; 3],
     gg: &Gg,
     h: f32,
+    relative: bool,
 ) -> Result<M6, StepError> {
-    transition_as(JACOBIAN, scratch, s, inertia, hw, gg, h)
+    transition_as(JACOBIAN, scratch, s, inertia, hw, gg, h, relative)
 }
 
 /// [`transition`] with the map chosen by the caller (the firmware compares the two).
@@ -241,6 +244,7 @@ pub fn transition_as(
     hw: [f32; 3],
     gg: &Gg,
     h: f32,
+    relative: bool,
 ) -> Result<M6, StepError> {
     let inv = inertia.map(|x| 1.0 / x);
     let g0 = torque_gradient(gg.nadir(0.0, &s.q), inertia, gg.k);
@@ -269,14 +273,10 @@ pub fn transition_as(
     // the rotor's part, on both sides of the drift: `t` (6x6) its tangent map, `x` the drift's
     // input and `p` the turn of the attitude after it (one `step_with_jacobian` call site:
     // with two, the firmware's free-running `Mv` step took 20 instructions more)
-    let w_rel = [0, 1, 2].map(|i| (s.m[i] - hw[i]) * inv[i]);
-    let w_free = [0, 1, 2].map(|i| s.m[i] * inv[i]);
-    let norm2 = |v: [f32; 3]| v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    let relative = hw.iter().any(|&x| x != 0.0) && 4.0 * norm2(w_rel) <= norm2(w_free);
     let mut t = [[0.0f32; 6]; 6];
     let (mut x, p) = if relative {
-        // the library's relative splitting (rigid3's crate::forced_relative), taken when the
-        // body turns at most half as fast as I^-1 m: the drift steps n = m - hw between two
+        // the library's relative splitting (rigid3's crate::forced_relative; the caller asks
+        // the propagating `Forced` whether the step takes it): the drift steps n = m - hw between two
         // gyroscopic half steps n' = B n, B = 1 + c (A + A^2), A = hat(a) I^-1, a = h hw / 4,
         // c = 2 / (1 + a . adj(I^-1) a); the attitude does not move in them
         let a = hw.map(|x| x * h * 0.25);
@@ -376,6 +376,10 @@ pub struct Ekf {
     pub frame: [f32; 4],
     /// Star-tracker noise, 1 sigma per axis, rad.
     pub sigma: f32,
+    /// Predicts, and those whose step took the library's relative splitting (the wheels
+    /// turning the body well faster than its own energy allows), for the report.
+    pub steps: u32,
+    pub relative_steps: u32,
 }
 
 impl Ekf {
@@ -402,7 +406,18 @@ impl Ekf {
         let mut gg = *self.f.torque();
         gg.cos0 = orbit.0;
         gg.sin0 = orbit.1;
-        let f = transition(&mut self.scratch, &self.s, self.inertia, wheels, &gg, dt)?;
+        let relative = self.f.takes_relative_split(&self.s.m, &wheels);
+        self.relative_steps += u32::from(relative);
+        self.steps += 1;
+        let f = transition(
+            &mut self.scratch,
+            &self.s,
+            self.inertia,
+            wheels,
+            &gg,
+            dt,
+            relative,
+        )?;
         tick(&mut self.f, &mut self.s, dt, wheels, orbit)?;
         let mut fp = [[0.0f32; 6]; 6];
         for i in 0..6 {
