@@ -471,6 +471,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         if check == Err(StepError::StepTooLarge) {
             return Err(StepError::StepTooLarge);
         }
+        self.forcing.rotor_moved |= r != self.forcing.rotor;
         self.forcing.rotor = r;
         self.forcing.rotor_w = w;
         self.rates = RotorRates::new(w, self.inv_i);
@@ -658,14 +659,20 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         // alone) took for none: with a zero model and a command, `R(q) m` was held against the
         // command's torque and the attitude came out 6.7e-2 rad off at every step size (found
         // in review)
-        if self.turns[0].is_some() && !carry && rel.is_none() && given.at(T::ZERO).is_none() {
-            m = self.forcing.hold_casimir(m0, m);
-            q = self.forcing.hold_spatial(m0, q0, m, q);
+        if self.turns[0].is_some() && !carry && given.at(T::ZERO).is_none() {
+            // relative steps as in crate::forced's step_state
+            if rel.is_none() || self.forcing.rotor_moved {
+                m = self.forcing.hold_casimir(m0, m, rel.is_some());
+                q = self.forcing.hold_spatial(m0, q0, m, q, rel.is_some());
+            } else {
+                self.forcing.bridge_holds(m0, Some(q0), m, Some(q));
+            }
         }
         let lost = if carry { lost.add(pending) } else { lost };
         let lost = State::new(lost.to_array(), lost_q.to_array());
         self.forcing.commit(s, m, q, clock, lost, tau);
         self.relative_on = rel.is_some();
+        self.forcing.rotor_moved = false;
         Ok(())
     }
 }
@@ -825,13 +832,18 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
         }
         // the gyrostat's holds only where the rounding is not carried (f64; crate::forced),
         // and not after relative steps (crate::forced's step_state)
-        if self.turns[0].is_some() && !carry && rel.is_none() {
-            v = self.forcing.hold_casimir(v0, v);
+        if self.turns[0].is_some() && !carry {
+            if rel.is_none() || self.forcing.rotor_moved {
+                v = self.forcing.hold_casimir(v0, v, rel.is_some());
+            } else {
+                self.forcing.bridge_holds(v0, None, v, None);
+            }
         }
         self.forcing.lost.m = if carry { lost.add(pending) } else { lost }.to_array();
         *m = v.to_array();
         self.forcing.clock = clock;
         self.relative_on = rel.is_some();
+        self.forcing.rotor_moved = false;
         Ok(())
     }
 
@@ -871,7 +883,6 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             d.reset();
         }
         self.forcing.forget();
-        self.relative_on = false;
     }
 }
 

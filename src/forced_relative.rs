@@ -92,9 +92,10 @@ impl<T: Real> RotorRates<T> {
 /// (`was`): when the wheels turn the body at least `3.6` times (staying: `2.4` times) the
 /// fastest rate its own energy allows, `|I^-1 h_r| >= 3.6 sqrt(2 E max_i 1/I_i)`,
 /// `E = 1/2 (m - h_r) . I^-1 (m - h_r)` (`|Omega|^2 <= 2 E max_i 1/I_i`). Then
-/// `|I^-1 m| >= |I^-1 h_r| - |Omega| >= 2 |Omega|` all along the torque-free orbit, so the
-/// relative splitting is the more accurate one everywhere on it (module docs: `r <= 1/2`),
-/// and, the test depending only on the energy and the rotor, a torque-free trajectory with
+/// `|I^-1 m| >= |I^-1 h_r| - |Omega| >= 2.6 |Omega|` all along the torque-free orbit when it
+/// enters (`r <= 0.39`; staying, `1.4 |Omega|`, `r <= 0.71`), where the relative splitting is
+/// the more accurate one (module docs: every draw at `r <= 1/2`, 1.4-150x below 0.9), and,
+/// the test depending only on the energy and the rotor, a torque-free trajectory with
 /// constant wheels never changes splitting. Decided per step from `|Omega| / |I^-1 m|`
 /// instead (a first version), trajectories whose ratio swung across the threshold mixed the
 /// two splittings, each keeping other invariants, and drifted: the energy 7e-3 and `|m|^2`
