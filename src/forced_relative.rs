@@ -35,8 +35,11 @@
 //! size of the motion, so the rounding is too. It does not keep `|m|^2` and `R(q) m` exactly
 //! (each part keeps only one of the pair `|n|^2`, `n . h_r`): on that cubesat at 1 kHz, errors
 //! of 1.4e-11 and 1.7e-8 that do not grow over `10^6` steps, and the energy to 9e-12. The f64
-//! step does not hold them as it does after the turns: the holds move the state off the
-//! energy, which then drifted (5e-8 after `10^6` steps, growing). In f32 the roundings of
+//! step does not hold them as it does after the turns while the wheels are constant: the
+//! holds move the state off the energy, which then drifted (5e-8 after `10^6` steps,
+//! growing). After a change of the wheels, which the energy does not survive, it holds
+//! them (crate::forced's `Forcing::hold_casimir`): with wheels commanded every tick nothing
+//! else keeps them (`tests/gyrostat_relative.rs`). In f32 the roundings of
 //! `n = m - h_r`, the half steps and `m = n + h_r` are carried (TwoSum) with the drift's, and
 //! the start kick's enters `n` (an ulp of `m` is many ulps of a small `n`): 1.1x the
 //! sensitivity after `10^6` steps, the energy within 2e-5 in both halves of the run
