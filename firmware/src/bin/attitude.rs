@@ -368,28 +368,10 @@ mod firmware {
         let mut scratch = Mv::new(body, h);
         // the splitting a fresh propagator takes from this state with these wheels
         let relative = Forced::new(Mv::new(body, h), gg).takes_relative_split(&s.m, &hw);
-        let (Ok(a), Ok(b)) = (
-            estimator::transition_as(
-                Jacobian::Linearised,
-                &mut scratch,
-                &s,
-                body.inertia(),
-                hw,
-                &gg,
-                h,
-                relative,
-            ),
-            estimator::transition_as(
-                Jacobian::Dmv,
-                &mut scratch,
-                &s,
-                body.inertia(),
-                hw,
-                &gg,
-                h,
-                relative,
-            ),
-        ) else {
+        let mut map = |kind| {
+            estimator::transition_as(kind, &mut scratch, &s, body.inertia(), hw, &gg, h, relative)
+        };
+        let (Ok(a), Ok(b)) = (map(Jacobian::Linearised), map(Jacobian::Dmv)) else {
             defmt::println!("Jacobian check: a step failed");
             return;
         };
