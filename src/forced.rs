@@ -57,7 +57,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::forced_relative::{relative_wanted, Relative, RelativeStep, RotorRates};
+use crate::forced_relative::{relative_wanted, RelativeStep, RotorRates};
 use crate::integrator::{
     carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
     turn_in_space, Integrator, State,
@@ -978,10 +978,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
                 if p.w <= T::MAX
                     && relative_wanted(m, h_r, self.inv_i, self.rates, self.relative_on) =>
             {
-                Some(RelativeStep {
-                    consts: Relative::new(h_r, self.inv_i, self.drift.step_size()),
-                    h_r,
-                })
+                Some(RelativeStep::new(h_r, self.inv_i, self.drift.step_size()))
             }
             _ => None,
         }

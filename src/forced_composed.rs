@@ -48,7 +48,7 @@ use crate::error::StepError;
 use crate::forced::{
     carried_for, forcing_accessors, half_turn, kick, turn_momentum, turn_state, Forcing,
 };
-use crate::forced_relative::{relative_wanted, Relative, RelativeStep, RotorRates};
+use crate::forced_relative::{relative_wanted, RelativeStep, RotorRates};
 use crate::integrator::{carries_rounding, checked_momentum, checked_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -611,10 +611,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
             .enumerate()
         {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
-            let rel = rel.map(|h_r| RelativeStep {
-                consts: Relative::new(h_r, self.inv_i, a),
-                h_r,
-            });
+            let rel = rel.map(|h_r| RelativeStep::new(h_r, self.inv_i, a));
             if let Some(r) = rel {
                 // the kicks' carried rounding joins `n` (crate::forced_relative's `enter`)
                 let (n, dropped, left) = r.enter(m, lost, carry);
@@ -799,10 +796,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Integrator<T> for Composed
             .enumerate()
         {
             let (d, a, turn) = stage(&mut self.stages, &self.drift_len, &self.turns, i);
-            let rel = rel.map(|h_r| RelativeStep {
-                consts: Relative::new(h_r, self.inv_i, a),
-                h_r,
-            });
+            let rel = rel.map(|h_r| RelativeStep::new(h_r, self.inv_i, a));
             if let Some(r) = rel {
                 // (as in step_state_given)
                 let (n, dropped, left) = r.enter(v, lost, carry);

@@ -163,11 +163,20 @@ impl<T: Real> Relative<T> {
 /// The relative splitting as one step takes it: the constants and the rotor `h_r`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RelativeStep<T> {
-    pub(crate) consts: Relative<T>,
-    pub(crate) h_r: Vec3<T>,
+    consts: Relative<T>,
+    h_r: Vec3<T>,
 }
 
 impl<T: Real> RelativeStep<T> {
+    /// The step of length `h` for rotor `h_r` (`inv_i = I^-1`).
+    #[inline(always)]
+    pub(crate) fn new(h_r: Vec3<T>, inv_i: Vec3<T>, h: T) -> Self {
+        Self {
+            consts: Relative::new(h_r, inv_i, h),
+            h_r,
+        }
+    }
+
     /// From the kicked `m` (with `lost0`, what the kick's rounding dropped) to the drift's
     /// input: `n = m - h_r`, then the gyroscopic half step. Returns `n`, the rounding it
     /// dropped and the part of `lost0` still to be applied by the end kick. With `carry` (f32)

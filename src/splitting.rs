@@ -26,11 +26,20 @@ use crate::real::{c, Real};
 /// to 1 or to `1 - 2^-24`, and `|m|^2` drifted 7e-2 in `10^6` steps of `h = 10^-3` (a
 /// first-use trial). With `cos a - 1` and `sin a` each to a few ulps the scale is off by a
 /// few ulps of `a^2`.
+///
+/// The flow of `E_axis` for time `t` turns by `a = t m_axis / I_axis` (`w_per_m = 1 / I_axis`);
+/// returns `(sin(a/2), cos(a/2), sin a, cos a - 1)`, the half angle's pair for the attitude's
+/// quaternion.
 #[inline(always)]
-fn rotation_pair<T: Real>(a: T) -> (T, T) {
-    let (sh, ch) = (a * c::<T>(0.5)).sin_cos();
+fn rotation_pair<T: Real>(m: Vec3<T>, axis: usize, w_per_m: T, t: T) -> (T, T, T, T) {
+    let mi = match axis {
+        0 => m.x,
+        1 => m.y,
+        _ => m.z,
+    };
+    let (sh, ch) = (t * mi * w_per_m * c::<T>(0.5)).sin_cos();
     let two_sh = sh + sh;
-    (two_sh * ch, -(two_sh * sh))
+    (sh, ch, two_sh * ch, -(two_sh * sh))
 }
 
 /// `m` turned about `e_axis` by `(s, cm1) = (sin a, cos a - 1)`: `m_plane + (cm1 m_plane +
@@ -60,12 +69,7 @@ fn turn_about<T: Real>(m: Vec3<T>, axis: usize, s: T, cm1: T) -> Vec3<T> {
 /// `-t m_axis / I_axis`. One `sin` and one `cos` (of the half angle, [`rotation_pair`]).
 #[inline]
 fn rotate_momentum<T: Real>(m: Vec3<T>, axis: usize, w_per_m: T, t: T) -> Vec3<T> {
-    let mi = match axis {
-        0 => m.x,
-        1 => m.y,
-        _ => m.z,
-    };
-    let (s, cm1) = rotation_pair(t * mi * w_per_m);
+    let (_, _, s, cm1) = rotation_pair(m, axis, w_per_m, t);
     turn_about(m, axis, s, cm1)
 }
 
@@ -80,15 +84,8 @@ fn rotate_state<T: Real>(
     w_per_m: T,
     t: T,
 ) -> (Vec3<T>, Quat<T>) {
-    let mi = match axis {
-        0 => m.x,
-        1 => m.y,
-        _ => m.z,
-    };
-    let half = t * mi * w_per_m * c::<T>(0.5);
-    let (sh, ch) = half.sin_cos();
-    let two_sh = sh + sh;
-    let m = turn_about(m, axis, two_sh * ch, -(two_sh * sh));
+    let (sh, ch, s, cm1) = rotation_pair(m, axis, w_per_m, t);
+    let m = turn_about(m, axis, s, cm1);
     let z = T::ZERO;
     let dq = match axis {
         0 => Quat {
