@@ -155,6 +155,7 @@ mod midpoint;
 mod mv;
 mod mv_frozen;
 mod mv_pre;
+mod mv_pre_series;
 mod mv_retimed;
 mod mv_seed;
 mod orbit;

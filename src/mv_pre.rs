@@ -19,6 +19,7 @@ use crate::error::StepError;
 use crate::integrator::{Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv::Mv;
+use crate::mv_pre_series::series_tables;
 use crate::real::{c, sq, Real};
 
 /// Preprocessed DMV of order 2, 4, 6, 8 or 10: an [`Mv`] step of a body with modified moments.
@@ -31,7 +32,10 @@ use crate::real::{c, sq, Real};
 /// reproduce each within 1.25x: 3.89e-6 / 5.76e-6, 1.23e-9 / 1.40e-9, 5.58e-11, 2.41e-13; the
 /// quaternion distance `|q - q_ref|` reads about 1.6x smaller). Explicit at every step size up to the
 /// modified body's [`Mv::max_step`]; if the modified moments break the triangle inequality
-/// (very large steps) the step returns `StepTooLarge`.
+/// (very large steps) the step returns `StepTooLarge`. The modified moments themselves are
+/// accurate to about an ulp for every valid body, rods included (src/mv_pre_series.rs); on a
+/// rod the steps' accuracy is that of [`Mv`]'s solved steps there (its docs: order 10 stalls
+/// near `1e-12` at `I_min / I_max = 1e-3`, `1e-8` at `1e-5`).
 ///
 /// Cost per step: that of `Mv` plus a three-way comparison. When `m` or `h` changes from
 /// outside (a filter's correction, a torque kick, a jittering clock) the modified moments are
@@ -370,13 +374,14 @@ impl<T: Real> Integrator<T> for PreMv<T> {
     }
 }
 
-/// The polynomials `s(C, H) = s3 + s5 + s7 + s9` and `d(C, H) = d3 + ... + d9` of
-/// docs/MATH.md §5 as coefficient tables: `s[k][a]` multiplies `C^a H^(k+1-a)` (degree
-/// `k + 1`). They depend on the body only, so they are computed once per body, and a change of
-/// `m` or `h` costs one evaluation and three divisions.
+/// The polynomials `s = s3 + s5 + s7 + s9` and `d = d3 + ... + d9` of docs/MATH.md §5 as
+/// coefficient tables in `C` and `X = H - C / I_max` (crate::mv_pre_series: in Hairer and
+/// Vilmart's `C` and `H` the terms cancel on a rod): `s[k][a]` multiplies `C^a X^(k+1-a)`
+/// (degree `k + 1`). They depend on the body only, so they are computed once per body, and a
+/// change of `m` or `h` costs one evaluation and three divisions.
 ///
 /// The tables are those of the body scaled to `I / kappa`, `kappa = max I`, and are evaluated
-/// at `C / kappa^2` and `H / kappa` (the momentum scaled to `h m / kappa`), where `s` is the
+/// at `C / kappa^2` and `X / kappa` (the momentum scaled to `h m / kappa`), where `s` is the
 /// same and `d` is `kappa` times as large (`s` is a function of `h Omega` alone, `d` has the
 /// units of `1 / I`). Unscaled, `delta^4 = (I1 I2 I3)^4` leaves f32's range for moments
 /// beyond about `2e3` or below `5e-4` (order 10 refused a 1e6 kg m^2 spacecraft and a
@@ -386,8 +391,10 @@ struct Modifier<T> {
     order: u8,
     /// `1 / I` (unscaled).
     inv_i: [T; 3],
-    /// `kappa / I` and `1 / kappa`.
+    /// `kappa / I`, `kappa / I - 1` (`X = sum b_i u_i / 2`, zero on the largest moment's
+    /// axis) and `1 / kappa`.
     a: [T; 3],
+    b: [T; 3],
     inv_kappa: T,
     s: [[T; 5]; 4],
     d: [[T; 5]; 4],
@@ -403,6 +410,8 @@ impl<T: Real> Modifier<T> {
             order,
             inv_i: [T::ONE / b1, T::ONE / b2, T::ONE / b3],
             a: [T::ONE / i1, T::ONE / i2, T::ONE / i3],
+            // kappa / I - 1 from the difference (exactly zero on the largest moment's axis)
+            b: [(kappa - b1) / b1, (kappa - b2) / b2, (kappa - b3) / b3],
             inv_kappa: T::ONE / kappa,
             s: [z; 4],
             d: [z; 4],
@@ -410,105 +419,24 @@ impl<T: Real> Modifier<T> {
         if order <= 2 {
             return m;
         }
-        let d = i1 * i2 * i3;
-        // sigma_k = sum I_i^k
-        let pow = |x: T, k: i32| -> T {
-            let mut r = T::ONE;
-            let base = if k < 0 { T::ONE / x } else { x };
-            let mut n = k.unsigned_abs();
-            while n > 0 {
-                r *= base;
-                n -= 1;
-            }
-            r
+        // the smallest and the middle moment (the largest is kappa): any order of the two
+        // would do for the polynomials, but `dl <= lo` (the triangle inequality) holds only
+        // with the smallest as `lo`, and that is what keeps their terms free of cancellation
+        let (lo, mid) = if b1 <= b2 && b1 <= b3 {
+            (b1, b2.min(b3))
+        } else if b2 <= b3 {
+            (b2, b1.min(b3))
+        } else {
+            (b3, b1.min(b2))
         };
-        let sig = |k: i32| pow(i1, k) + pow(i2, k) + pow(i3, k);
-        // tau_{b,c} = sum over cyclic (i, j, k) of (I_j^b + I_k^b) / I_i^c
-        let tau = |b: i32, cexp: i32| {
-            (pow(i2, b) + pow(i3, b)) / pow(i1, cexp)
-                + (pow(i3, b) + pow(i1, b)) / pow(i2, cexp)
-                + (pow(i1, b) + pow(i2, b)) / pow(i3, cexp)
-        };
-        let k = |x: f64| c::<T>(x);
-        let (s1, s2, s3_, s4) = (sig(1), sig(2), sig(3), sig(4));
-        let (sm1, sm2, sm3, sm4) = (sig(-1), sig(-2), sig(-3), sig(-4));
-        let (t11, t21, t12) = (tau(1, 1), tau(2, 1), tau(1, 2));
-        let d2 = sq(d);
-        let d3 = d2 * d;
-        let d4 = sq(d2);
-        // degree 1 (s3, d3): [H, C]
-        let (s3_c, s3_h) = s3_coefficients([i1, i2, i3]);
-        m.s[0] = [s3_h, s3_c, T::ZERO, T::ZERO, T::ZERO];
-        m.d[0] = [
-            s1 / (k(6.0) * d),
-            -T::ONE / (k(3.0) * d),
-            T::ZERO,
-            T::ZERO,
-            T::ZERO,
-        ];
-        if order >= 6 {
-            // degree 2 (s5, d5): [H^2, C H, C^2]
-            m.s[1] = [
-                (k(3.0) * s1 + k(2.0) * d * sm2) / (k(60.0) * d),
-                (T::ONE - t11) / (k(30.0) * d),
-                (s2 - d * sm1) / (k(30.0) * d2),
-                T::ZERO,
-                T::ZERO,
-            ];
-            m.d[1] = [
-                -(k(9.0) + t11) / (k(60.0) * d),
-                (k(6.0) * d * sm1 - s2) / (k(60.0) * d2),
-                -s1 / (k(60.0) * d2),
-                T::ZERO,
-                T::ZERO,
-            ];
-        }
-        if order >= 8 {
-            // degree 3 (s7, d7): [H^3, C H^2, C^2 H, C^3]
-            m.s[2] = [
-                (k(15.0) - d * sm3 - k(2.0) * t11) / (k(630.0) * d),
-                (k(53.0) * s2 + (k(6.0) * t12 - k(100.0) * sm1) * d) / (k(2520.0) * d2),
-                (k(9.0) * s1 + k(10.0) * d * sm2 - k(6.0) * t21) / (k(420.0) * d2),
-                (k(4.0) * d + k(17.0) * s3_ - k(15.0) * d * t11) / (k(2520.0) * d3),
-                T::ZERO,
-            ];
-            m.d[2] = [
-                (k(9.0) * d * sm1 + d * t12 - k(11.0) * s2) / (k(1260.0) * d2),
-                (k(47.0) * s1 + k(13.0) * t21 - k(38.0) * d * sm2) / (k(2520.0) * d2),
-                (s3_ + k(2.0) * d * t11 - k(85.0) * d) / (k(1260.0) * d3),
-                (k(34.0) * d * sm1 - k(19.0) * s2) / (k(2520.0) * d3),
-                T::ZERO,
-            ];
-        }
-        if order >= 10 {
-            let (t31, t22, t13) = (tau(3, 1), tau(2, 2), tau(1, 3));
-            // degree 4 (s9, d9): [H^4, C H^3, C^2 H^2, C^3 H, C^4]
-            m.s[3] = [
-                (k(2.0) * d2 * sm4 + k(5.0) * d * t12 - k(171.0) * d * sm1 + k(159.0) * s2)
-                    / (k(45360.0) * d2),
-                (k(137.0) * d * sm2 - d * t13 + k(3.0) * s1 - k(69.0) * t21) / (k(11340.0) * d2),
-                (k(26.0) * d * t22 + k(55.0) * s3_ + k(204.0) * d
-                    - k(50.0) * d2 * sm3
-                    - k(59.0) * d * t11)
-                    / (k(7560.0) * d3),
-                (-k(77.0) * t31 + k(75.0) * d * t12 + k(214.0) * s2 - k(240.0) * d * sm1)
-                    / (k(22680.0) * d3),
-                (k(62.0) * s4 - k(94.0) * d * t21 + k(66.0) * d2 * sm2 + k(81.0) * d * s1)
-                    / (k(45360.0) * d4),
-            ];
-            m.d[3] = [
-                (k(165.0) * s1 - d * t13 - k(9.0) * t21 - k(145.0) * d * sm2) / (k(45360.0) * d2),
-                (k(67.0) * s3_ - k(735.0) * d - k(15.0) * d * t22
-                    + k(87.0) * d * t11
-                    + k(34.0) * d2 * sm3)
-                    / (k(22680.0) * d3),
-                (k(125.0) * d * sm1 - k(5.0) * t31 - k(130.0) * s2 + k(4.0) * d * t12)
-                    / (k(7560.0) * d3),
-                (k(54.0) * d * s1 - s4 + k(218.0) * d * t21 - k(426.0) * d2 * sm2)
-                    / (k(45360.0) * d4),
-                (k(60.0) * d * t11 - k(61.0) * s3_ - k(247.0) * d) / (k(45360.0) * d4),
-            ];
-        }
+        let (s, d) = series_tables(
+            lo / kappa,
+            mid / kappa,
+            (kappa - mid) / kappa,
+            (order - 2) / 2,
+        );
+        m.s = s;
+        m.d = d;
         m
     }
 
@@ -545,8 +473,8 @@ impl<T: Real> Modifier<T> {
             }
             return Ok(self.inv_i);
         }
-        let (cc, hh) = self.scaled_invariants(h, m);
-        if !(cc.is_finite() && hh.is_finite()) {
+        let (cc, xx) = self.scaled_invariants(h, m);
+        if !(cc.is_finite() && xx.is_finite()) {
             // with m and h finite, (h m / kappa)^2 overflows only for h |Omega| beyond 1e19
             // (f32), far past any DMV step's limit: the step is too large, as `Mv` says
             return Err(if m.iter().all(|x| x.is_finite()) {
@@ -555,24 +483,24 @@ impl<T: Real> Modifier<T> {
                 StepError::NonFinite
             });
         }
-        // the monomials C^a H^b with a + b = 1..order/2 - 1 only: an update after a change of
+        // the monomials C^a X^b with a + b = 1..order/2 - 1 only: an update after a change of
         // m or h is on the loop's path, and order 4 needs the first degree alone
         let [s1, s2, s3, s4] = &self.s;
         let [d1, d2, d3, d4] = &self.d;
-        let mut s = s1[0] * hh + s1[1] * cc;
-        let mut d = d1[0] * hh + d1[1] * cc;
+        let mut s = s1[0] * xx + s1[1] * cc;
+        let mut d = d1[0] * xx + d1[1] * cc;
         if self.order >= 6 {
-            let (c2, h2, ch) = (sq(cc), sq(hh), cc * hh);
-            s += s2[0] * h2 + s2[1] * ch + s2[2] * c2;
-            d += d2[0] * h2 + d2[1] * ch + d2[2] * c2;
+            let (c2, x2, cx) = (sq(cc), sq(xx), cc * xx);
+            s += s2[0] * x2 + s2[1] * cx + s2[2] * c2;
+            d += d2[0] * x2 + d2[1] * cx + d2[2] * c2;
             if self.order >= 8 {
-                let (h3, ch2, c2h, c3) = (h2 * hh, ch * hh, ch * cc, c2 * cc);
-                s += s3[0] * h3 + s3[1] * ch2 + s3[2] * c2h + s3[3] * c3;
-                d += d3[0] * h3 + d3[1] * ch2 + d3[2] * c2h + d3[3] * c3;
+                let (x3, cx2, c2x, c3) = (x2 * xx, cx * xx, cx * cc, c2 * cc);
+                s += s3[0] * x3 + s3[1] * cx2 + s3[2] * c2x + s3[3] * c3;
+                d += d3[0] * x3 + d3[1] * cx2 + d3[2] * c2x + d3[3] * c3;
                 if self.order >= 10 {
-                    let (h4, ch3, c2h2, c3h, c4) = (sq(h2), ch2 * hh, sq(ch), c3 * hh, sq(c2));
-                    s += s4[0] * h4 + s4[1] * ch3 + s4[2] * c2h2 + s4[3] * c3h + s4[4] * c4;
-                    d += d4[0] * h4 + d4[1] * ch3 + d4[2] * c2h2 + d4[3] * c3h + d4[4] * c4;
+                    let (x4, cx3, c2x2, c3x, c4) = (sq(x2), cx2 * xx, sq(cx), c3 * xx, sq(c2));
+                    s += s4[0] * x4 + s4[1] * cx3 + s4[2] * c2x2 + s4[3] * c3x + s4[4] * c4;
+                    d += d4[0] * x4 + d4[1] * cx3 + d4[2] * c2x2 + d4[3] * c3x + d4[4] * c4;
                 }
             }
         }
@@ -589,14 +517,15 @@ impl<T: Real> Modifier<T> {
         Ok(inv)
     }
 
-    /// `(C, H) / (kappa^2, kappa)`, from the momentum scaled to `h m / kappa`.
+    /// `(C, X) / (kappa^2, kappa)`, from the momentum scaled to `h m / kappa`
+    /// (`X = H - C / I_max`, [`Modifier`]).
     #[inline(always)]
     fn scaled_invariants(&self, h: T, m: &[T; 3]) -> (T, T) {
-        let [a1, a2, a3] = self.a;
+        let [b1, b2, b3] = self.b;
         let hk = h * self.inv_kappa;
         let (u1, u2, u3) = (sq(m[0] * hk), sq(m[1] * hk), sq(m[2] * hk));
         let half = c::<T>(0.5);
-        ((u1 + u2 + u3) * half, (u1 * a1 + u2 * a2 + u3 * a3) * half)
+        ((u1 + u2 + u3) * half, (u1 * b1 + u2 * b2 + u3 * b3) * half)
     }
 }
 
@@ -717,9 +646,9 @@ impl<T: Real> PreMv<T> {
 
 impl<T: Real> Modifier<T> {
     /// `d I~ / d m` (row `i` is the gradient of `I~_i`), by differentiating
-    /// `1 / I~_i = (1 + s(C, H)) / I_i + d(C, H)` with `grad C = h^2 m`,
-    /// `grad H = h^2 I^-1 m`: `grad I~_i = -I~_i^2 ((s_C grad C + s_H grad H) / I_i + d_C grad C
-    /// + d_H grad H)`. The partials of the tabulated polynomials are exact (monomial by
+    /// `1 / I~_i = (1 + s(C, X)) / I_i + d(C, X)` with `grad C = h^2 m`,
+    /// `grad X = h^2 (I^-1 - 1 / I_max) m`: `grad I~_i = -I~_i^2 ((s_C grad C + s_X grad X) / I_i
+    /// + d_C grad C + d_X grad X)`. The partials of the tabulated polynomials are exact (monomial by
     /// monomial), so this is as accurate as `I~` itself.
     fn modified_inertia_jacobian(&self, h: T, m: &[T; 3]) -> Result<Mat3<T>, StepError> {
         let inertia = self.modified_inertia(h, m)?;
@@ -728,36 +657,37 @@ impl<T: Real> Modifier<T> {
             return Ok(Mat3::from_cols(zero, zero, zero));
         }
         // in the scaled units of the tables ([`Modifier`]): with `C' = C / kappa^2`,
-        // `H' = H / kappa` and `d' = kappa d`, `grad C' = (h / kappa)^2 m`,
-        // `grad H' = (h / kappa)^2 (kappa / I) m` and `1 / I~_i = ((1 + s) a_i + d') / kappa`
+        // `X' = X / kappa` and `d' = kappa d`, `grad C' = (h / kappa)^2 m`,
+        // `grad X' = (h / kappa)^2 (kappa / I - 1) m` and `1 / I~_i = ((1 + s) a_i + d') / kappa`
         let [a1, a2, a3] = self.a;
         let hk2 = sq(h * self.inv_kappa);
         let mv = Vec3::from_array(*m);
-        let (cc, hh) = self.scaled_invariants(h, m);
+        let (cc, xx) = self.scaled_invariants(h, m);
         let cp = [T::ONE, cc, sq(cc), sq(cc) * cc];
-        let hp = [T::ONE, hh, sq(hh), sq(hh) * hh];
-        let (mut s_c, mut s_h, mut d_c, mut d_h) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
-        // s[k][a] multiplies C^a H^(k + 1 - a)
+        let xp = [T::ONE, xx, sq(xx), sq(xx) * xx];
+        let (mut s_c, mut s_x, mut d_c, mut d_x) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
+        // s[k][a] multiplies C^a X^(k + 1 - a)
         for (k, (sk, dk)) in self.s.iter().zip(self.d.iter()).enumerate() {
             let deg = k + 1;
             for a in 0..=deg {
                 let b = deg - a;
                 if a > 0 {
-                    let w = c::<T>(a as f64) * cp[a - 1] * hp[b];
+                    let w = c::<T>(a as f64) * cp[a - 1] * xp[b];
                     s_c += sk[a] * w;
                     d_c += dk[a] * w;
                 }
                 if b > 0 {
-                    let w = c::<T>(b as f64) * cp[a] * hp[b - 1];
-                    s_h += sk[a] * w;
-                    d_h += dk[a] * w;
+                    let w = c::<T>(b as f64) * cp[a] * xp[b - 1];
+                    s_x += sk[a] * w;
+                    d_x += dk[a] * w;
                 }
             }
         }
         let grad_c = mv.scale(hk2);
-        let grad_h = Vec3::new(a1 * mv.x, a2 * mv.y, a3 * mv.z).scale(hk2);
-        let gs = grad_c.scale(s_c).add(grad_h.scale(s_h));
-        let gd = grad_c.scale(d_c).add(grad_h.scale(d_h));
+        let [b1, b2, b3] = self.b;
+        let grad_x = Vec3::new(b1 * mv.x, b2 * mv.y, b3 * mv.z).scale(hk2);
+        let gs = grad_c.scale(s_c).add(grad_x.scale(s_x));
+        let gd = grad_c.scale(d_c).add(grad_x.scale(d_x));
         let row = |ii: T, a: T| gs.scale(a).add(gd).scale(-sq(ii) * self.inv_kappa);
         let [i1, i2, i3] = inertia;
         let jac = Mat3::from_cols(row(i1, a1), row(i2, a2), row(i3, a3)).transpose();
