@@ -3,8 +3,8 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, norms_agree, write_momentum, write_state,
-    Integrator, State,
+    checked_momentum, checked_state, compose_attitude, homogeneous_scale, norms_agree, unscaled,
+    write_momentum, write_state, Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::real::{c, Real};
@@ -28,7 +28,10 @@ pub enum Solver {
 /// below `4 eps |y|`; a step that has not converged within the iteration limit returns
 /// `StepError::NoConvergence` and leaves the state as it was. Conserves every quadratic
 /// invariant (`|m|^2`, `E`) up to the solver tolerance; symmetric; error at `t = 10` on the
-/// talk's case about `0.0047 h^2` (docs/MATH.md §7).
+/// talk's case about `0.0047 h^2` (docs/MATH.md §7). At momenta whose products leave the
+/// float range (f32 below `1e-12` or above `1e12` in the moments' units) the step is solved on
+/// `m` scaled by a power of two and `h` by its inverse, the same motion, bit for bit the plain
+/// step elsewhere (as [`crate::Rk4`]).
 ///
 /// Attitude: the midpoint rule applied to `q' = 1/2 q (x) (0, Omega(y))` with the midpoint's
 /// `Omega` is linear in `q` and gives the Cayley transform
@@ -73,11 +76,11 @@ impl<T: Real> Midpoint<T> {
     }
 
     /// The midpoint `y` of a step from `m`.
-    fn midpoint(&mut self, m: Vec3<T>) -> Result<Vec3<T>, StepError> {
-        if !self.h.is_finite() {
+    fn midpoint(&mut self, m: Vec3<T>, h: T) -> Result<Vec3<T>, StepError> {
+        if !h.is_finite() {
             return Err(StepError::NonFinite);
         }
-        let hh = self.h * c::<T>(0.5);
+        let hh = h * c::<T>(0.5);
         let w = self.inv_i;
         let f = |y: Vec3<T>| y.cross(y.mul_elem(w));
         let tol = c::<T>(4.0) * T::EPSILON;
@@ -137,20 +140,32 @@ fn on_sphere<T: Real>(m: Vec3<T>, next: Vec3<T>) -> Result<(), StepError> {
 impl<T: Real> Integrator<T> for Midpoint<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
         let v = checked_momentum(m)?;
-        let y = self.midpoint(v)?;
+        // at momenta whose products leave the range, the same motion in other units
+        // (crate::integrator's homogeneous_scale: bit for bit the plain step in range)
+        let scale = homogeneous_scale(v);
+        let (v, h) = match scale {
+            Some((up, down)) => (v.scale(up), self.h * down),
+            None => (v, self.h),
+        };
+        let y = self.midpoint(v, h)?;
         // m_{k+1} = 2 y - m_k
         let next = y.scale(c::<T>(2.0)).sub(v);
         on_sphere(v, next)?;
-        write_momentum(m, next)
+        write_momentum(m, unscaled(next, scale))
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
-        let y = self.midpoint(v)?;
+        let scale = homogeneous_scale(v);
+        let (v, h) = match scale {
+            Some((up, down)) => (v.scale(up), self.h * down),
+            None => (v, self.h),
+        };
+        let y = self.midpoint(v, h)?;
         let next = y.scale(c::<T>(2.0)).sub(v);
         on_sphere(v, next)?;
         // Cayley: (1 + w)/(1 - w) = (1 + w)^2 / (1 + |w|^2) for pure w = h Omega / 4
-        let w = y.mul_elem(self.inv_i).scale(self.h * c::<T>(0.25));
+        let w = y.mul_elem(self.inv_i).scale(h * c::<T>(0.25));
         let w2 = w.norm2();
         let inv = T::ONE / (T::ONE + w2);
         let dq = Quat {
@@ -159,7 +174,7 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
             y: c::<T>(2.0) * w.y * inv,
             z: c::<T>(2.0) * w.z * inv,
         };
-        write_state(s, next, compose_attitude(q, dq))
+        write_state(s, unscaled(next, scale), compose_attitude(q, dq))
     }
 
     fn step_size(&self) -> T {

@@ -61,7 +61,10 @@ impl<T: Real> Quaternion<T> {
     }
 
     /// The rotation by `angle` (radians, right-handed) about the unit `axis`:
-    /// `[cos(angle/2), sin(angle/2) axis]`. `axis` is not normalised here.
+    /// `[cos(angle/2), sin(angle/2) axis]`. `axis` is not normalised here: a non-unit axis
+    /// gives a quaternion of length other than one, which the integrators renormalise at their
+    /// next step (so an oracle that rotates by it unnormalised disagrees with them); for an
+    /// axis of any length use [`Quaternion::from_rotation_vector`] with `angle * axis / |axis|`.
     #[must_use]
     pub fn from_axis_angle(axis: [T; 3], angle: T) -> Self {
         let half = angle * c::<T>(0.5);

@@ -3,7 +3,8 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, write_momentum, write_state, Integrator, State,
+    checked_momentum, checked_state, homogeneous_scale, unscaled, write_momentum, write_state,
+    Integrator, State,
 };
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
@@ -15,7 +16,11 @@ use crate::real::{c, Real};
 /// Not structure preserving: `|m|^2`, `E` and `R(q) m` drift at `O(h^4)` per unit time, so it
 /// is the accuracy-per-cost leader at short horizons and loses at long ones. Explicit, so
 /// past `h |Omega| ~ 2.8` it blows up: a step whose result overflows returns
-/// `StepError::Overflow` and leaves the state as it was.
+/// `StepError::Overflow` and leaves the state as it was. At momenta whose products leave the
+/// float range (f32 below `1e-12` or above `1e12` in the moments' units) the step runs on
+/// `m` scaled by a power of two and `h` by its inverse, the same motion (Euler's equations are
+/// quadratic in `m`), so `m x I^-1 m` does not underflow to a step that leaves `m` as it was;
+/// elsewhere bit for bit the plain step.
 #[derive(Clone, Debug)]
 pub struct Rk4<T> {
     body: Body<T>,
@@ -74,14 +79,21 @@ impl<T: Real> Integrator<T> for Rk4<T> {
             return Err(StepError::NonFinite);
         }
         let v = checked_momentum(m)?;
-        let (h, hh) = (self.h, self.h * c::<T>(0.5));
+        // at momenta whose products leave the range, the same motion in other units
+        // (crate::integrator's homogeneous_scale: bit for bit the plain step in range)
+        let scale = homogeneous_scale(v);
+        let (v, h) = match scale {
+            Some((up, down)) => (v.scale(up), self.h * down),
+            None => (v, self.h),
+        };
+        let hh = h * c::<T>(0.5);
         let k1 = self.f(v);
         let k2 = self.f(v.add(k1.scale(hh)));
         let k3 = self.f(v.add(k2.scale(hh)));
         let k4 = self.f(v.add(k3.scale(h)));
         let sum = k1.add(k4).add(k2.add(k3).scale(c::<T>(2.0)));
         let next = v.add(sum.scale(h * c::<T>(1.0 / 6.0)));
-        write_momentum(m, next)
+        write_momentum(m, unscaled(next, scale))
     }
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
@@ -89,7 +101,12 @@ impl<T: Real> Integrator<T> for Rk4<T> {
             return Err(StepError::NonFinite);
         }
         let (v, q) = checked_state(s)?;
-        let (h, hh) = (self.h, self.h * c::<T>(0.5));
+        let scale = homogeneous_scale(v);
+        let (v, h) = match scale {
+            Some((up, down)) => (v.scale(up), self.h * down),
+            None => (v, self.h),
+        };
+        let hh = h * c::<T>(0.5);
         let k1 = self.f(v);
         let l1 = self.g(v, q);
         let (v2, q2) = (v.add(k1.scale(hh)), axpy(q, hh, l1));
@@ -113,7 +130,7 @@ impl<T: Real> Integrator<T> for Rk4<T> {
         if !ok {
             return Err(StepError::Overflow);
         }
-        write_state(s, next, q_next)
+        write_state(s, unscaled(next, scale), q_next)
     }
 
     fn step_size(&self) -> T {

@@ -283,20 +283,25 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
         let (v, q) = rotate_state(v, q, a, self.w.x, hh);
         let (v, q) = rotate_state(v, q, b, self.w.y, h);
         let (v, q) = rotate_state(v, q, a, self.w.x, hh);
-        // the Casimir: q (x) exp(c h m / 2), a rotation by c h |m| about m (body frame)
-        let n2 = v.norm2();
-        let q = if n2 > T::ZERO {
-            let n = n2.sqrt();
-            let half = self.c * h * n * c::<T>(0.5);
+        // the Casimir: q (x) exp(c h m / 2), a rotation by c h |m| about m (body frame). The
+        // axis is taken from `m` scaled by its largest component: `|m|^2` itself is subnormal
+        // for f32 momenta below 1e-19 (and overflows above 1e19), and from its rounded root the
+        // turn came out of unit length (`|q| = 1.063` at `|m| = 5e-23`, found in review)
+        let big = v.x.abs().max(v.y.abs()).max(v.z.abs());
+        let q = if big > T::ZERO {
+            // divided, not scaled by `1 / big`, which overflows for a subnormal `big`
+            let u = Vec3::new(v.x / big, v.y / big, v.z / big);
+            let nu = u.norm2().sqrt();
+            let half = self.c * h * (big * nu) * c::<T>(0.5);
             let (sh, ch) = half.sin_cos();
-            let k = sh / n;
+            let k = sh / nu;
             compose_attitude(
                 q,
                 Quat {
                     w: ch,
-                    x: v.x * k,
-                    y: v.y * k,
-                    z: v.z * k,
+                    x: u.x * k,
+                    y: u.y * k,
+                    z: u.z * k,
                 },
             )
         } else {

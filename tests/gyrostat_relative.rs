@@ -204,8 +204,8 @@ fn composed<T: Real>(h: f64) -> rigid3::Composed<T, Mv<T>, NoTorque> {
 /// `Composed` order 4 takes the relative splitting in every stage of a step (the choice is
 /// made once a step, so the composition keeps its order): order 3.98 against RK4 on the same
 /// scene (2.3e-8 rad at 40 Hz, where the turns left 1.3e-3), and in f32 within the scene's
-/// sensitivity of f64 after `2 x 10^5` steps at 1 kHz (1.2x) with the energy flat (8e-5 in
-/// both halves). With the turns a first-use trial measured the f32 energy 5.0e-4 off after
+/// sensitivity of f64 after `2 x 10^5` steps at 1 kHz (1.08x) with the energy flat (2.0e-5 in
+/// both halves; 1.2x and 8e-5 before each stage took the last stage's rounding back). With the turns a first-use trial measured the f32 energy 5.0e-4 off after
 /// `2 x 10^5` steps, where f64 kept 1e-9. The kicks' carried rounding joins `n` at each
 /// stage, as in `Forced`: left to the next kick it missed the relative dynamics, and the f32
 /// energy drifted (1.8e-4 then 3.2e-4).
@@ -361,4 +361,78 @@ fn a_partial_step_takes_the_steps_own_splitting() {
     let mut stepped = s_small;
     f.step_state(&mut stepped).unwrap();
     assert_eq!(partial, stepped);
+}
+
+/// `Composed` in f32 on a slower body (a tenth of the scene's rate: the wheels turn the body
+/// 0.4 thousand times faster than its own motion) keeps its energy within the scene's
+/// sensitivity to one ulp of `m0` over `2 x 10^5` steps at 1 kHz, and flat [conservation; the
+/// energy change one f32 ulp of `m0` makes]. Each stage's `m = n + h_r` rounds `n` to an ulp of
+/// `|h_r|`; that rounding was carried to the step's end only, so the later stages ran from the
+/// rounded `n`: 4.7e-3 then 7.4e-3 against a one-ulp change of 3.2e-4 (found in review; `Forced`,
+/// one stage, kept 1.8e-4).
+#[test]
+fn composed_f32_stages_start_from_the_carried_relative_momentum() {
+    let m0: [f64; 3] = core::array::from_fn(|i| WHEELS[i] + INERTIA[i] * RATE[i] * 0.1);
+    let m32 = m0.map(|x| x as f32);
+    let e0 = energy(m32.map(f64::from));
+    // the largest change of the energy one ulp of one component of m0 makes
+    let ulp = (0..3)
+        .map(|i| {
+            let mut up = m32.map(f64::from);
+            up[i] = f64::from(m32[i].next_up());
+            (energy(up) / e0 - 1.0).abs()
+        })
+        .fold(0.0, f64::max);
+    let mut a = composed::<f32>(f64::from(0.001f32));
+    let mut s = State::new(m32, [1.0f32, 0.0, 0.0, 0.0]);
+    let n = 200_000;
+    let mut de = [0.0f64; 2];
+    for k in 0..n {
+        a.step_state(&mut s).unwrap();
+        if k % 97 == 0 {
+            let e = (energy(wide(&s).m) / e0 - 1.0).abs();
+            de[usize::from(k >= n / 2)] = de[usize::from(k >= n / 2)].max(e);
+        }
+    }
+    println!("composed f32, slow body: energy {de:?} per half, one ulp of m0 {ulp:.2e}");
+    assert!(
+        de[1] <= ulp && de[1] <= 2.0 * de[0].max(ulp / 4.0),
+        "{de:?} vs {ulp:e}"
+    );
+}
+
+/// The choice of splitting depends on the motion, not on its units: a body-dominated scene
+/// (the wheels at 2 % of the test's, the body's own momentum nearly cancelling them) scaled to
+/// momenta `lam m` (time `1 / lam`) takes the turns at every scale where f32 represents it
+/// [the same scene at scale 1]. The test's two sides are squares: where both underflowed to
+/// zero (`lam <= 1e-24`) or overflowed (`lam >= 1e22`) it read `0 >= 0` or `inf >= inf` and
+/// chose the relative splitting; and at `|m| = 6e28`, `h = 8e-40` that choice made a
+/// `Forced<Splitting>` step `NonFinite` from finite input (found in review), which the turns
+/// take.
+#[test]
+fn the_choice_of_splitting_does_not_depend_on_the_units() {
+    let rotor = WHEELS.map(|w| w * 0.02);
+    let m0: [f64; 3] =
+        core::array::from_fn(|i| rotor[i] * 0.03 + INERTIA[i] * [0.3, -0.2, 0.25][i]);
+    let body = Body::<f32>::from_inertia(INERTIA.map(|x| x as f32)).unwrap();
+    let choice = |lam: f64| {
+        let h_r = rotor.map(|x| (x * lam) as f32);
+        let m = m0.map(|x| (x * lam) as f32);
+        let mut f = Forced::new(Mv::new(body, (0.01 / lam) as f32), NoTorque);
+        f.set_rotor(h_r).unwrap();
+        f.takes_relative_split(&m, &h_r)
+    };
+    assert!(!choice(1.0), "the scene is body-dominated");
+    for lam in [1e-18, 1e-21, 1e-24, 1e-27, 1e-30, 1e18, 1e20, 1e22] {
+        assert!(!choice(lam), "scale {lam:e} chose the relative splitting");
+    }
+
+    let b = Body::<f32>::from_inertia([1.973194e-11, 1.7237435e-10, 1.6012601e-10]).unwrap();
+    let h_r = [1.3369487e26f32, 9.32461e25, 1.0917131e27];
+    let m = [5.7452703e28f32, 4.8168522e27, 1.3946623e28];
+    let mut f = Forced::new(rigid3::Splitting::new(b, 8.30976e-40), NoTorque);
+    f.set_rotor(h_r).unwrap();
+    let mut s = State::new(m, [1.0, 0.0, 0.0, 0.0]);
+    assert_eq!(f.step_state(&mut s), Ok(()));
+    assert!(s.m.iter().chain(s.q.iter()).all(|x| x.is_finite()));
 }
