@@ -428,20 +428,34 @@ pub(crate) fn series_tables<T: Real>(
         dl_pow[p] = dl_pow[p - 1] * dl;
     }
     let mut tables = [[[T::ZERO; 5]; 4]; 2];
+    // `get`, not indexing: the table's indices are in range, but the compiler cannot see it,
+    // and the firmware's link-time proof admits no panic path (firmware/src/bin/no_panic.rs)
+    let power = |pows: &[T; 9], n: u8| pows.get(usize::from(n)).copied().unwrap_or(T::ZERO);
     for &(family, k, a, p, q, coefficient) in ROWS.iter() {
-        if k <= max_degree {
-            let cell = &mut tables[family as usize][k as usize - 1][a as usize];
-            *cell += c::<T>(f64::from(coefficient)) * e_pow[p as usize] * dl_pow[q as usize];
+        if k == 0 || k > max_degree {
+            continue;
+        }
+        let cell = tables
+            .get_mut(usize::from(family))
+            .and_then(|t| t.get_mut(usize::from(k) - 1))
+            .and_then(|row| row.get_mut(usize::from(a)));
+        if let Some(cell) = cell {
+            *cell += c::<T>(f64::from(coefficient)) * power(&e_pow, p) * power(&dl_pow, q);
         }
     }
     let base = lo * mid;
-    let mut den_pow = T::ONE;
-    for k in 1..=max_degree as usize {
-        den_pow *= base;
-        for a in 0..=k {
-            for family in 0..2 {
-                let den = c::<T>(f64::from(DENOMINATORS[family][k - 1][a])) * den_pow;
-                tables[family][k - 1][a] = tables[family][k - 1][a] / den;
+    for (family, dens) in tables.iter_mut().zip(DENOMINATORS.iter()) {
+        let mut den_pow = T::ONE;
+        // row `k` (from 0) holds degree `k + 1`: `k + 2` coefficients
+        for (k, (row, row_dens)) in family
+            .iter_mut()
+            .zip(dens.iter())
+            .take(usize::from(max_degree))
+            .enumerate()
+        {
+            den_pow *= base;
+            for (cell, &den) in row.iter_mut().zip(row_dens.iter()).take(k + 2) {
+                *cell = *cell / (c::<T>(f64::from(den)) * den_pow);
             }
         }
     }
