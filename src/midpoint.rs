@@ -28,10 +28,10 @@ pub enum Solver {
 /// below `4 eps |y|`; a step that has not converged within the iteration limit returns
 /// `StepError::NoConvergence` and leaves the state as it was. Conserves every quadratic
 /// invariant (`|m|^2`, `E`) up to the solver tolerance; symmetric; error at `t = 10` on the
-/// talk's case about `0.0047 h^2` (docs/MATH.md §7). At momenta whose products leave the
-/// float range (f32 below `1e-12` or above `1e12` in the moments' units) the step is solved on
-/// `m` scaled by a power of two and `h` by its inverse, the same motion, bit for bit the plain
-/// step elsewhere (as [`crate::Rk4`]).
+/// talk's case about `0.0047 h^2` (docs/MATH.md §7). At momenta outside `[2^-40, 2^40]` the
+/// step is solved on `m` scaled by a power of two and `h` by its inverse, the same motion, bit
+/// for bit the plain step inside (as [`crate::Rk4`], with the same limit: the scale comes from
+/// `m` alone, not from the moments).
 ///
 /// Attitude: the midpoint rule applied to `q' = 1/2 q (x) (0, Omega(y))` with the midpoint's
 /// `Omega` is linear in `q` and gives the Cayley transform

@@ -33,7 +33,10 @@ use crate::real::{c, sq, Real};
 /// quaternion distance `|q - q_ref|` reads about 1.6x smaller). Explicit at every step size up to the
 /// modified body's [`Mv::max_step`]; if the modified moments break the triangle inequality
 /// (very large steps) the step returns `StepTooLarge`. The modified moments themselves are
-/// accurate to about an ulp for every valid body, rods included (src/mv_pre_series.rs); on a
+/// accurate to a few ulps for every valid body, rods included (src/mv_pre_series.rs; at most
+/// 4 ulps over 3000 random bodies against 50-digit arithmetic, rods to `I_min / I_max = 1e-9`),
+/// down to rods of `1e-11` in f32 (`1e-80` in f64), where order 10's tables underflow and its
+/// steps refuse with `StepTooLarge`; on a
 /// rod the steps' accuracy is that of [`Mv`]'s solved steps there (its docs: order 10 stalls
 /// near `1e-12` at `I_min / I_max = 1e-3`, `1e-8` at `1e-5`).
 ///
@@ -647,9 +650,12 @@ impl<T: Real> PreMv<T> {
 impl<T: Real> Modifier<T> {
     /// `d I~ / d m` (row `i` is the gradient of `I~_i`), by differentiating
     /// `1 / I~_i = (1 + s(C, X)) / I_i + d(C, X)` with `grad C = h^2 m`,
-    /// `grad X = h^2 (I^-1 - 1 / I_max) m`: `grad I~_i = -I~_i^2 ((s_C grad C + s_X grad X) / I_i
-    /// + d_C grad C + d_X grad X)`. The partials of the tabulated polynomials are exact (monomial by
-    /// monomial), so this is as accurate as `I~` itself.
+    /// `grad X = h^2 (I^-1 - 1 / I_max) m`:
+    /// `grad I~_i = -I~_i^2 ((s_C grad C + s_X grad X) / I_i + d_C grad C + d_X grad X)`. The
+    /// partials of the tabulated polynomials are exact (monomial by monomial); on a rod
+    /// `gs a + gd` cancels on the large axes, where `I~` is nearly `I` (relative error up to
+    /// 1.4e-7 in f64 at `I_min / I_max = 3e-8`, against 50-digit arithmetic; elsewhere near
+    /// round-off).
     fn modified_inertia_jacobian(&self, h: T, m: &[T; 3]) -> Result<Mat3<T>, StepError> {
         let inertia = self.modified_inertia(h, m)?;
         let zero = Vec3::new(T::ZERO, T::ZERO, T::ZERO);

@@ -16,11 +16,13 @@ use crate::real::{c, Real};
 /// Not structure preserving: `|m|^2`, `E` and `R(q) m` drift at `O(h^4)` per unit time, so it
 /// is the accuracy-per-cost leader at short horizons and loses at long ones. Explicit, so
 /// past `h |Omega| ~ 2.8` it blows up: a step whose result overflows returns
-/// `StepError::Overflow` and leaves the state as it was. At momenta whose products leave the
-/// float range (f32 below `1e-12` or above `1e12` in the moments' units) the step runs on
-/// `m` scaled by a power of two and `h` by its inverse, the same motion (Euler's equations are
-/// quadratic in `m`), so `m x I^-1 m` does not underflow to a step that leaves `m` as it was;
-/// elsewhere bit for bit the plain step.
+/// `StepError::Overflow` and leaves the state as it was. At momenta outside `[2^-40, 2^40]`
+/// (about `1e-12` to `1e12`) the step runs on `m` scaled by a power of two and `h` by its
+/// inverse, the same motion (Euler's equations are quadratic in `m`), so in f32 `m x I^-1 m`
+/// does not underflow to a step that leaves `m` as it was (it did at `|m| = 1e-25`); inside,
+/// bit for bit the plain step. The scale is chosen from `m` alone: with moments far from one
+/// as well the products can still leave the range (f32, moments `1e30`, `|m| = 1e-8`: `m`
+/// unchanged; moments `1e20`, `|m| = 1e-11`: 2e-4 off), so keep f32 units near one.
 #[derive(Clone, Debug)]
 pub struct Rk4<T> {
     body: Body<T>,

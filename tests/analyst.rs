@@ -178,3 +178,37 @@ fn partial_steps_leave_the_tracked_trajectory_bit_identical() {
     );
     assert_eq!(mv.step_size(), h);
 }
+
+/// A zero-length partial step, and a reset during a pause, leave the state as it is for every
+/// integrator [the state itself]: `RetimedMv::reset` once recomputed its pause flag from the
+/// last non-zero `h` it keeps, so after `set_step_size(0)` a reset stepped again with the old
+/// step and `step_partial(s, 0)` took a whole step (found in review).
+#[test]
+fn a_zero_partial_step_and_a_reset_pause_move_nothing() {
+    let body = Body::<f64>::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    let s0 = State::new([0.3, -0.6, 1.1], [1.0, 0.0, 0.0, 0.0]);
+    fn check<I: Integrator<f64> + Clone>(name: &str, mut a: I, s0: State<f64>) {
+        let mut s = s0;
+        a.step_state(&mut s).unwrap();
+        assert_eq!(
+            a.step_partial(&s, 0.0).unwrap(),
+            s,
+            "{name}: step_partial(s, 0)"
+        );
+        a.set_step_size(0.0);
+        a.reset();
+        let before = s;
+        a.step_state(&mut s).unwrap();
+        assert_eq!(s, before, "{name}: a step after set_step_size(0) and reset");
+    }
+    check("mv", Mv::new(body, 0.05), s0);
+    for order in [2u8, 4] {
+        check("pre-mv", PreMv::new(body, 0.05, order).unwrap(), s0);
+        check(
+            "retimed-mv",
+            rigid3::RetimedMv::new(body, 0.05, order).unwrap(),
+            s0,
+        );
+    }
+    check("exact", Exact::new(body, 0.05), s0);
+}

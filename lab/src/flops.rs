@@ -17,6 +17,10 @@ pub struct StepCost {
     pub momentum: Counts,
     /// Average step with attitude.
     pub state: Counts,
+    /// The first refusal of any counted step (a step past the method's limit, say): then the
+    /// counts are those of refused calls, not of steps, and the table says so.
+    #[serde(skip)]
+    pub refused: Option<rigid3::StepError>,
 }
 
 /// Steps averaged.
@@ -43,28 +47,40 @@ pub fn step_cost(method: &'static str, h: f64) -> Option<StepCost> {
     let body = Body::<Counted>::from_mass_matrix(TALK_J.map(Counted)).ok()?;
     let mut a = make(method, body, Counted(h))?;
     let mut m = TALK_M0.map(Counted);
-    let (_, first) = count(|| a.step(&mut m));
-    // the second step takes what the first left lazy (Mv's Casimir factor: one division)
-    let _ = a.step(&mut m);
-    let (_, many) = count(|| {
-        for _ in 0..STEPS {
-            let _ = a.step(&mut m);
+    let mut refused = None;
+    let mut note = |r: Result<(), rigid3::StepError>| {
+        if let Err(e) = r {
+            refused = refused.or(Some(e));
         }
+    };
+    let (r, first) = count(|| a.step(&mut m));
+    note(r);
+    // the second step takes what the first left lazy (Mv's Casimir factor: one division)
+    note(a.step(&mut m));
+    let (r, many) = count(|| {
+        for _ in 0..STEPS {
+            a.step(&mut m)?;
+        }
+        Ok(())
     });
+    note(r);
     let mut b = make(method, body, Counted(h))?;
     let mut s = State::new(TALK_M0.map(Counted), [1.0, 0.0, 0.0, 0.0].map(Counted));
-    let _ = b.step_state(&mut s);
-    let _ = b.step_state(&mut s);
-    let (_, states) = count(|| {
+    note(b.step_state(&mut s));
+    note(b.step_state(&mut s));
+    let (r, states) = count(|| {
         for _ in 0..STEPS {
-            let _ = b.step_state(&mut s);
+            b.step_state(&mut s)?;
         }
+        Ok(())
     });
+    note(r);
     Some(StepCost {
         method,
         first,
         momentum: per_step(many, STEPS),
         state: per_step(states, STEPS),
+        refused,
     })
 }
 
@@ -83,6 +99,10 @@ pub fn print_table(h: f64) {
         "method", "flops/step", "div", "sqrt", "trig", "with q", "sqrt", "trig", "first step"
     );
     for c in all(h) {
+        if let Some(e) = c.refused {
+            println!("{:<17} refused at this step size ({e})", c.method);
+            continue;
+        }
         println!(
             "{:<17} {:>10} {:>6} {:>6} {:>6} | {:>10} {:>6} {:>6} | {:>5} +{}s+{}t",
             c.method,

@@ -295,6 +295,10 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Command::Flops { h } => {
+            if !h.is_finite() || h == 0.0 {
+                eprintln!("error: --h must be finite and nonzero (got {h})");
+                return ExitCode::FAILURE;
+            }
             rigid3_lab::flops::print_table(h);
             ExitCode::SUCCESS
         }
