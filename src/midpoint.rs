@@ -3,7 +3,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, compose_attitude, homogeneous_scale, norms_agree, unscaled,
+    checked_momentum, checked_state, compose_attitude, in_homogeneous_units, norms_agree, unscaled,
     write_momentum, write_state, Integrator, State,
 };
 use crate::linalg::{Mat3, Quat, Vec3};
@@ -142,11 +142,7 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
         let v = checked_momentum(m)?;
         // at momenta whose products leave the range, the same motion in other units
         // (crate::integrator's homogeneous_scale: bit for bit the plain step in range)
-        let scale = homogeneous_scale(v);
-        let (v, h) = match scale {
-            Some((up, down)) => (v.scale(up), self.h * down),
-            None => (v, self.h),
-        };
+        let (v, h, scale) = in_homogeneous_units(v, self.h)?;
         let y = self.midpoint(v, h)?;
         // m_{k+1} = 2 y - m_k
         let next = y.scale(c::<T>(2.0)).sub(v);
@@ -156,11 +152,7 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
-        let scale = homogeneous_scale(v);
-        let (v, h) = match scale {
-            Some((up, down)) => (v.scale(up), self.h * down),
-            None => (v, self.h),
-        };
+        let (v, h, scale) = in_homogeneous_units(v, self.h)?;
         let y = self.midpoint(v, h)?;
         let next = y.scale(c::<T>(2.0)).sub(v);
         on_sphere(v, next)?;

@@ -3,7 +3,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{
-    checked_momentum, checked_state, homogeneous_scale, unscaled, write_momentum, write_state,
+    checked_momentum, checked_state, in_homogeneous_units, unscaled, write_momentum, write_state,
     Integrator, State,
 };
 use crate::linalg::{Quat, Vec3};
@@ -83,11 +83,7 @@ impl<T: Real> Integrator<T> for Rk4<T> {
         let v = checked_momentum(m)?;
         // at momenta whose products leave the range, the same motion in other units
         // (crate::integrator's homogeneous_scale: bit for bit the plain step in range)
-        let scale = homogeneous_scale(v);
-        let (v, h) = match scale {
-            Some((up, down)) => (v.scale(up), self.h * down),
-            None => (v, self.h),
-        };
+        let (v, h, scale) = in_homogeneous_units(v, self.h)?;
         let hh = h * c::<T>(0.5);
         let k1 = self.f(v);
         let k2 = self.f(v.add(k1.scale(hh)));
@@ -103,11 +99,7 @@ impl<T: Real> Integrator<T> for Rk4<T> {
             return Err(StepError::NonFinite);
         }
         let (v, q) = checked_state(s)?;
-        let scale = homogeneous_scale(v);
-        let (v, h) = match scale {
-            Some((up, down)) => (v.scale(up), self.h * down),
-            None => (v, self.h),
-        };
+        let (v, h, scale) = in_homogeneous_units(v, self.h)?;
         let hh = h * c::<T>(0.5);
         let k1 = self.f(v);
         let l1 = self.g(v, q);
