@@ -170,7 +170,27 @@ enum Command {
     },
 }
 
+/// Output piped into a reader that stops early (`| head`) ends the run quietly: `println!`
+/// panics on a closed pipe (Rust ignores SIGPIPE), which printed a panic and a backtrace
+/// (found by a trial of the CLI). Every other panic keeps the default report.
+fn quiet_on_closed_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.contains("Broken pipe") {
+            std::process::exit(0);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     match Cli::parse().command {
         Command::Propagate {
             method,

@@ -484,3 +484,25 @@ fn a_forced_method_runs_without_forces_and_is_listed() {
         assert!(out.contains(name), "{name} not listed: {out}");
     }
 }
+
+/// A reader that closes the pipe early (`rigid3-lab demo | head -c 10`) ends the run quietly
+/// with success [the exit status and stderr]: `println!` on the closed pipe panicked with a
+/// backtrace and status 101 (found by a trial of the CLI).
+#[test]
+fn a_closed_pipe_ends_the_run_quietly() {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rigid3-lab"))
+        .arg("demo")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 10];
+    child.stdout.take().unwrap().read_exact(&mut first).unwrap();
+    // the pipe's read end is dropped here: the lab's next writes fail
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?}: {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
