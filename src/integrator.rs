@@ -432,15 +432,15 @@ pub(crate) fn unscaled<T: Real>(v: Vec3<T>, scale: Option<(T, T)>) -> Vec3<T> {
     }
 }
 
+/// A momentum and a step in [`homogeneous_scale`]'s units, and the scale (`None`: as given).
+pub(crate) type Scaled<T> = (Vec3<T>, T, Option<(T, T)>);
+
 /// `(v, h)` in [`homogeneous_scale`]'s units, and the scale. `Overflow` where a finite `h`
 /// leaves the range on scaling (a momentum beyond `2^40` with a step so large that `h |m|`
 /// overflows: the step would blow up anyway; without it such a step was refused as
 /// `NonFinite`, an error about the input, found by the loop fuzz).
 #[inline(always)]
-pub(crate) fn in_homogeneous_units<T: Real>(
-    v: Vec3<T>,
-    h: T,
-) -> Result<(Vec3<T>, T, Option<(T, T)>), StepError> {
+pub(crate) fn in_homogeneous_units<T: Real>(v: Vec3<T>, h: T) -> Result<Scaled<T>, StepError> {
     match homogeneous_scale(v) {
         Some((up, down)) => {
             let scaled = h * down;
