@@ -26,7 +26,7 @@ pub const CORTEX_M4F: [(&str, &str, f64); 10] = [
     ("pre-mv6", "pre-mv6", 228.0),
     ("pre-mv8", "pre-mv8", 228.0),
     ("pre-mv10", "pre-mv10", 228.0),
-    ("rk4", "rk4", 149.0),
+    ("rk4", "rk4", 145.0),
     ("split µmath", "splitting", 336.0),
     ("split sin_cos", "splitting", 418.0),
     ("split libm", "splitting", 585.0),
