@@ -24,11 +24,14 @@ pub struct Report {
     pub casimir: f64,
     /// Final spatial momentum `R(q) m` (absent for a momentum-only run).
     pub spatial_momentum: Option<[f64; 3]>,
-    /// Max relative drift of `|m|^2` over the run.
+    /// Max relative drift of `|m|^2` over the run (under a torque or a rotor, where it is not
+    /// conserved, the largest relative change; the key keeps its name for the checks that
+    /// read it).
     pub casimir_drift: f64,
-    /// Max relative drift of the energy over the run.
+    /// Max relative drift of the energy over the run (a change, likewise, under a torque).
     pub energy_drift: f64,
-    /// Max relative drift of the spatial momentum over the run (attitude runs only).
+    /// Max relative drift of the spatial momentum over the run (attitude runs only; a change,
+    /// likewise, under a torque).
     pub spatial_momentum_drift: Option<f64>,
     /// The error that stopped the run early, if any.
     pub error: Option<String>,
