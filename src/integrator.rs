@@ -141,6 +141,13 @@ pub trait Integrator<T> {
     /// Forgets per-trajectory data (tracked roots, caches), so the next step starts afresh as
     /// after construction with the current step size (a forced integrator also keeps its
     /// time, torque and rotor). Integrators without such data do nothing.
+    ///
+    /// Not needed after changing the state: every integrator sees a momentum or attitude it
+    /// did not return and takes it as a new start (a filter's correction, a torque kick). In f32
+    /// a reset also drops the carried rounding, which costs accuracy in a loop that resets at
+    /// every correction: `Forced<Mv>` at 200 Hz under a jittering clock with a correction of
+    /// `m` and `q` every 100 ticks ended 5-11x the loop's floor (the same loop in f64 with the
+    /// corrections rounded to f32) where without the resets it stayed at 1x (a first-use trial).
     fn reset(&mut self) {}
 
     /// The state one step of size `h` after `s` (any `h`, typically a fraction of the step),
