@@ -530,3 +530,26 @@ fn a_zero_step_leaves_the_state_as_it_is() {
         assert_eq!(m, paused.m, "{name}");
     }
 }
+
+/// f64 momenta below `2^-1024` (subnormal) step as the motion they are, almost none
+/// [`Rk4` on the same input; the state]: `Midpoint`'s check that its result kept `|m|^2` took
+/// `1 / max|m|`, infinite there, and refused every step as `NoConvergence` (found in review).
+#[test]
+fn subnormal_f64_momenta_step() {
+    let body = Body::<f64>::from_inertia([1.0, 1.5, 2.0]).unwrap();
+    for m0 in [
+        [5e-324, 0.0, 0.0],
+        [1e-314, 2e-314, 3e-314],
+        [0.0, -4e-320, 1e-310],
+    ] {
+        for solver in [Solver::Newton, Solver::FixedPoint] {
+            let mut m = m0;
+            Midpoint::with_solver(body, 0.1, solver)
+                .step(&mut m)
+                .unwrap_or_else(|e| panic!("{m0:?} {solver:?}: {e:?}"));
+            let mut r = m0;
+            Rk4::new(body, 0.1).step(&mut r).unwrap();
+            assert_eq!(m, r, "{m0:?} {solver:?}");
+        }
+    }
+}

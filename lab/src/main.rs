@@ -170,9 +170,12 @@ enum Command {
     },
 }
 
-/// Output piped into a reader that stops early (`| head`) ends the run quietly: `println!`
-/// panics on a closed pipe (Rust ignores SIGPIPE), which printed a panic and a backtrace
-/// (found by a trial of the CLI). Every other panic keeps the default report.
+/// Output piped into a reader that stops early (`| head`) ends the run with status 141, as a
+/// process killed by SIGPIPE does, without a panic report: `println!` panics on a closed pipe
+/// (Rust ignores SIGPIPE), which printed a panic and a backtrace (found by a trial of the
+/// CLI). Only std's own "failed printing to stdout" panic is taken: a status of success would
+/// hide a run that failed after its report (found in review), and every other panic keeps the
+/// default report.
 fn quiet_on_closed_pipe() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
@@ -182,8 +185,8 @@ fn quiet_on_closed_pipe() {
             .map(String::as_str)
             .or_else(|| info.payload().downcast_ref::<&str>().copied())
             .unwrap_or("");
-        if message.contains("Broken pipe") {
-            std::process::exit(0);
+        if message.starts_with("failed printing to stdout") && message.contains("Broken pipe") {
+            std::process::exit(141);
         }
         default(info);
     }));
