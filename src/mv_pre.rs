@@ -36,9 +36,9 @@ use crate::real::{c, sq, Real};
 /// accurate to a few ulps for every valid body, rods included (src/mv_pre_series.rs; at most
 /// 4 ulps over 3000 random bodies against 50-digit arithmetic, rods to `I_min / I_max = 1e-9`),
 /// down to rods of `1e-11` in f32 (`1e-80` in f64), where order 10's tables underflow and its
-/// steps refuse with `StepTooLarge`; on a
-/// rod the steps' accuracy is that of [`Mv`]'s solved steps there (its docs: order 10 stalls
-/// near `1e-12` at `I_min / I_max = 1e-3`, `1e-8` at `1e-5`).
+/// steps refuse with `StepTooLarge`; on a rod the steps' accuracy is that of [`Mv`]'s solved
+/// steps there (its docs: order 10 stalls near `1e-12` at `I_min / I_max = 1e-3`, `1e-8` at
+/// `1e-5`).
 ///
 /// Cost per step: that of `Mv` plus a three-way comparison. When `m` or `h` changes from
 /// outside (a filter's correction, a torque kick, a jittering clock) the modified moments are
@@ -533,8 +533,10 @@ impl<T: Real> Modifier<T> {
 }
 
 /// `s3 = a C + b H`, the first term of the modified moments' series (docs/MATH.md §5):
-/// `(a, b) = (sig_1 / (6 delta), -sig_-1 / 3)` for the moments `i`. Shared with
-/// [`crate::RetimedMv`], whose retimed step is `h (1 + s3 + O(h^4))`.
+/// `(a, b) = (sig_1 / (6 delta), -sig_-1 / 3)` for the moments `i`, for
+/// [`crate::RetimedMv`], whose retimed step is `h (1 + s3 + O(h^4))` (and which updates it only
+/// on bodies whose moments span less than 16x, where these monomials do not cancel; `PreMv`'s
+/// own tables hold the same term in `C` and `X`, crate::mv_pre_series).
 pub(crate) fn s3_coefficients<T: Real>([i1, i2, i3]: [T; 3]) -> (T, T) {
     let sm1 = T::ONE / i1 + T::ONE / i2 + T::ONE / i3;
     (

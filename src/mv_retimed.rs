@@ -74,9 +74,9 @@ use crate::real::{c, sq, Real};
 /// On an equilibrium (momentum on a principal axis, or zero) there is no time to match and
 /// `h' = h`; so also where `m x Omega` underflows (f32 momenta below about `1e-19` in the
 /// moments' units), where the steps are plain DMV steps (5.4e-4 off after 200 steps at
-/// `h |Omega| = 0.06`, where the retimed steps end 2.0e-5 off). In f32 the steps' own rounding loses phase, about 30 eps a step, which the
-/// refinement removes at each check down to the resolution of the elapsed time (a few of its
-/// ulps): `m` 5.6e-6 and 8.0e-6 off (relative) after `10^4` steps at `h = 0.1` and `0.05` on
+/// `h |Omega| = 0.06`, where the retimed steps end 2.0e-5 off). In f32 the steps' own rounding
+/// loses phase, about 30 eps a step, which the refinement removes at each check down to the
+/// resolution of the elapsed time (a few of its ulps): `m` 5.6e-6 and 8.0e-6 off (relative) after `10^4` steps at `h = 0.1` and `0.05` on
 /// `I = (1, 1.5, 2)`, order 2 (tests/mv_pre.rs); over 22 random bodies at `h |Omega|` 0.01 to
 /// 0.1, after `10^4` steps, median 2.9e-5 at order 2 and 4.3e-5 at order 4. Its attitude is
 /// the inner DMV's, which each exact retiming restarts (its f32 carry dropped): for an f32
@@ -757,10 +757,10 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
         self.check = None;
         self.anchor = None;
         self.h_changed = false;
-        // (`idle` stays: a zero step size keeps the last non-zero `h` in `self.h`, so `idle`
-        // belongs to the step size, not to the trajectory; recomputed from `h` here, a reset
-        // after `set_step_size(0)` stepped again with the old `h`, and `step_partial(s, 0)`
-        // took a whole step: found in review)
+        // `idle` is kept: a zero step size leaves the last non-zero `h` in `self.h`, so the
+        // pause belongs to the step size, not to the trajectory (recomputed from `h` here, a
+        // reset after `set_step_size(0)` stepped again with the old `h`, and
+        // `step_partial(s, 0)` took a whole step: found in review)
         self.quiet = 0;
         self.reanchor = false;
     }

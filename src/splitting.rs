@@ -287,7 +287,7 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
         // axis is taken from `m` scaled by its largest component: `|m|^2` itself is subnormal
         // for f32 momenta below 1e-19 (and overflows above 1e19), and from its rounded root the
         // turn came out of unit length (`|q| = 1.063` at `|m| = 5e-23`, found in review)
-        let big = v.x.abs().max(v.y.abs()).max(v.z.abs());
+        let big = v.max_abs();
         let q = if big > T::ZERO {
             // divided, not scaled by `1 / big`, which overflows for a subnormal `big`
             let u = Vec3::new(v.x / big, v.y / big, v.z / big);

@@ -24,11 +24,11 @@ pub struct Report {
     pub casimir: f64,
     /// Final spatial momentum `R(q) m` (absent for a momentum-only run).
     pub spatial_momentum: Option<[f64; 3]>,
-    /// Max relative drift of `|m|^2` over the run (under a torque or a rotor, where it is not
-    /// conserved, the largest relative change; the key keeps its name for the checks that
-    /// read it).
+    /// Max relative drift of `|m|^2` over the run (under a torque, where it is not conserved,
+    /// the largest relative change; the key keeps its name for the checks that read it).
     pub casimir_drift: f64,
-    /// Max relative drift of the energy over the run (a change, likewise, under a torque).
+    /// Max relative drift of the energy `1/2 m . I^-1 m` over the run (a change, likewise,
+    /// under a torque or a rotor).
     pub energy_drift: f64,
     /// Max relative drift of the spatial momentum over the run (attitude runs only; a change,
     /// likewise, under a torque).
