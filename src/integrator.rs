@@ -407,9 +407,12 @@ pub(crate) fn checked_momentum<T: Real>(m: &[T; 3]) -> Result<Vec3<T>, StepError
 /// integrators whose step is homogeneous in `(m, h)` (Euler's equations are quadratic in `m`:
 /// `m -> m up`, `h -> h down` is the same motion, and scaling by a power of two rounds
 /// nothing, so a step in range is the plain step bit for bit). `None` when `v` is in range
-/// already (the common case: two comparisons), when it is zero, or when `up` would leave the
-/// range of `T`. Without it `Rk4` and `Midpoint` in f32 left `m` as it was at `|m| = 1e-25`
-/// (`m x I^-1 m` underflowed) whatever `h |Omega|` was (found in a first-use trial).
+/// already (the common case: two comparisons) or zero. Below `2^-1040` (f64 subnormals) the
+/// largest power of `2^40` that `T` holds, `2^1000`, leaves `v` short of the range but
+/// normal, which is all the steps need. Without it `Rk4` and `Midpoint` in f32 left `m` as it was at `|m| = 1e-25`
+/// (`m x I^-1 m` underflowed) whatever `h |Omega|` was (found in a first-use trial), and
+/// `Midpoint` refused every f64 momentum below `2^-1022` (its on-the-sphere check divided by a
+/// subnormal `max |m|`, found in review; a first fix scaled that check alone).
 pub(crate) fn homogeneous_scale<T: Real>(v: Vec3<T>) -> Option<(T, T)> {
     let big = v.max_abs();
     let (lo, hi) = (c::<T>(9.094947017729282e-13), c::<T>(1099511627776.0));
@@ -420,7 +423,7 @@ pub(crate) fn homogeneous_scale<T: Real>(v: Vec3<T>) -> Option<(T, T)> {
     while big * up < lo {
         let next = up * hi;
         if !next.is_finite() {
-            return None;
+            break;
         }
         (up, down) = (next, down * lo);
     }

@@ -130,15 +130,6 @@ impl<T: Real> Midpoint<T> {
 /// review: an f32 rod at `h |Omega|` near 0.6 returned `Ok` with `|m|^2` from 1 to 1.4e15, an
 /// f64 body `|m|` from 3e32 to 3e144).
 fn on_sphere<T: Real>(m: Vec3<T>, next: Vec3<T>) -> Result<(), StepError> {
-    // a subnormal momentum (f64 below `2^-1022`, which the step's scaling leaves as it is where
-    // the scale would overflow) first scaled by `2^60`, exactly: `norms_agree` divides by
-    // `max |m|`, infinite there, and every such step was refused (found in review)
-    let (m, next) = if m.max_abs() < T::MIN_POSITIVE {
-        let up = c::<T>(1152921504606846976.0);
-        (m.scale(up), next.scale(up))
-    } else {
-        (m, next)
-    };
     if norms_agree(m, next, T::EPSILON.sqrt()) {
         Ok(())
     } else {
