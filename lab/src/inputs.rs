@@ -22,6 +22,15 @@ pub fn check_finite(named: &[(&str, &[f64])], f32: bool) -> Result<(), String> {
     Ok(())
 }
 
+/// `Err` when a positive moment of inertia rounds to zero in f32 (the body's own check would
+/// call it "not positive", which the flag's value is not).
+pub fn check_inertia_range(inertia: &[f64], f32: bool) -> Result<(), String> {
+    if f32 && inertia.iter().any(|&x| x > 0.0 && x as f32 == 0.0) {
+        return Err("--inertia has a moment that rounds to zero in f32 (below 7e-46)".into());
+    }
+    Ok(())
+}
+
 /// `h` nonzero in the run's precision (a step that rounds to zero in f32 stands still).
 pub fn check_step(h: f64, f32: bool) -> Result<(), String> {
     if h == 0.0 || (f32 && h as f32 == 0.0) {
@@ -87,6 +96,10 @@ mod tests {
         assert!(check_step(0.0, false).is_err());
         assert!(check_step(1e-50, false).is_ok());
         assert!(check_step(1e-50, true).is_err());
+        assert!(check_inertia_range(&[1e-50, 1.0, 1.0], false).is_ok());
+        assert!(check_inertia_range(&[1e-50, 1.0, 1.0], true).is_err());
+        // a non-positive moment is the body's to refuse, with its own message
+        assert!(check_inertia_range(&[-1.0, 0.0, 1e-40], true).is_ok());
         assert!(check_steps(1e10, "x").is_ok());
         assert!(check_steps(1.5e10, "x").is_err());
         assert!(check_steps(f64::NAN, "x").is_err());

@@ -28,10 +28,20 @@ enum Command {
         #[arg(long)]
         method: String,
         /// Principal moments of inertia I1,I2,I3.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(
+            long,
+            required = true,
+            value_delimiter = ',',
+            allow_hyphen_values = true
+        )]
         inertia: Vec<f64>,
         /// Initial body momentum x,y,z.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(
+            long,
+            required = true,
+            value_delimiter = ',',
+            allow_hyphen_values = true
+        )]
         m0: Vec<f64>,
         /// Initial attitude w,x,y,z (body to space; normalised). Without it a free run is
         /// momentum-only; a forced run always carries the attitude (the identity by default).
@@ -493,6 +503,7 @@ fn check_propagate(
     }
     let refs: Vec<(&str, &[f64])> = named.iter().map(|(f, v)| (*f, v.as_slice())).collect();
     inputs::check_finite(&refs, f32)?;
+    inputs::check_inertia_range(&inertia, f32)?;
     inputs::check_step(h, f32)?;
     if t < 0.0 {
         return Err(

@@ -80,6 +80,7 @@ pub fn soak<T: Real + 'static>(
     // stepped, not of a quaternion the integrator normalises on its first step)
     let f32 = T::EPSILON.to_f64() > 1e-10;
     crate::inputs::check_finite(&[("inertia", &inertia), ("m0", &m0), ("h", &[h])], f32)?;
+    crate::inputs::check_inertia_range(&inertia, f32)?;
     crate::inputs::check_step(h, f32)?;
     crate::inputs::check_steps(steps as f64, "--steps")?;
     let q0 = crate::inputs::unit_quaternion(q0)?;

@@ -101,6 +101,35 @@ fn bad_input_is_reported() {
     args.extend_from_slice(&TALK);
     let (ok, out) = lab(&args);
     assert!(!ok && out.contains("past the method's limit"), "{out}");
+    // a positive moment that f32 cannot hold is named as such, not as "not positive"
+    let (ok, out) = lab(&[
+        "propagate",
+        "--method",
+        "mv",
+        "--inertia",
+        "1e-50,2e-50,2.5e-50",
+        "--m0",
+        "1,2,3",
+        "--h",
+        "0.1",
+        "--t",
+        "1",
+        "--f32",
+    ]);
+    assert!(!ok && out.contains("rounds to zero in f32"), "{out}");
+    // the body and the initial momentum have no defaults: a missing one is named
+    for (args, flag) in [
+        (["--inertia", "1,2,3"], "--m0"),
+        (["--m0", "1,2,3"], "--inertia"),
+    ] {
+        let mut all = vec!["propagate", "--method", "mv", "--h", "0.1", "--t", "1"];
+        all.extend_from_slice(&args);
+        let (ok, out) = lab(&all);
+        assert!(
+            !ok && out.contains("required") && out.contains(flag),
+            "{out}"
+        );
+    }
 }
 
 /// Input that used to hang (no bound on the step count), run silently (NaN, a negative
@@ -201,6 +230,10 @@ fn soak_refuses_bad_numbers_naming_the_flag() {
             "--m0 must be finite and within f32's range",
         ),
         (&["--q0", "0,0,0,0"], "--q0 must be a finite nonzero"),
+        (
+            &["--inertia", "1e-50,2e-50,2.5e-50", "--f32"],
+            "--inertia has a moment that rounds to zero in f32",
+        ),
     ] {
         let mut args = vec!["soak", "--method", "mv", "--steps", "100"];
         args.extend_from_slice(extra);
