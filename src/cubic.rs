@@ -5,7 +5,8 @@
 //! [`solve_cubic`] first rescales `x = s y` with `s = max(|a|, |b|^(1/2), |c|^(1/3))`, so
 //! the scaled coefficients are at most 1 and nothing overflows for any finite input
 //! (scale invariance). It takes the real root of largest magnitude from the trigonometric
-//! (three real roots) or Cardano (one real root) formula, polishes it by Newton's method on
+//! (three real roots) or Cardano (one real root) formula, with the crate's own `asin`, sine
+//! and cosine of an angle within `pi/6`, and cube root (no libm: crate::asin), polishes it by Newton's method on
 //! the scaled polynomial, and deflates: the other two roots have sum `-(a + r)` and product
 //! `-c / r`, and are found from that quadratic with the cancellation-free formula. Deflating
 //! by the largest root is forward stable (Wilkinson), so every simple root `r` satisfies
@@ -17,7 +18,10 @@
 //! pair with an imaginary part of that size. The tests check this bound against roots built
 //! in advance and against the `f64` result for the `f32` routine.
 
+use crate::asin::asin;
+use crate::cbrt::cbrt;
 use crate::real::{c, sq, Real};
+use crate::sincos::sin_cos_kernel;
 
 /// The roots of a real cubic.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,14 +43,17 @@ pub enum CubicRoots<T> {
 /// Roots of the monic cubic `x^3 + a x^2 + b x + c`.
 ///
 /// Returns `None` when a coefficient is not finite or a root overflows. Accuracy: see the module docs (a few
-/// ulps times each simple root's condition number). Uses one `sqrt`, one `cbrt` and either
-/// one `acos` and three `cos` (three real roots) or one more `sqrt` and `cbrt` (one real root).
+/// ulps times each simple root's condition number). Uses one `sqrt`, one cube root and either
+/// one `asin` and one `(sin, cos)` pair of an angle within `pi/6` (three real roots) or one
+/// more `sqrt` and cube root (one real root), all the crate's own (crate::asin,
+/// crate::cbrt, crate::sincos: no libm, so a firmware that solves a cubic links none of
+/// libm's double-precision code).
 #[must_use]
 pub fn solve_cubic<T: Real>(a: T, b: T, cc: T) -> Option<CubicRoots<T>> {
     if !(a.is_finite() && b.is_finite() && cc.is_finite()) {
         return None;
     }
-    let s = a.abs().max(b.abs().sqrt()).max(cc.abs().cbrt());
+    let s = a.abs().max(b.abs().sqrt()).max(cbrt(cc.abs()));
     if s == T::ZERO {
         return Some(CubicRoots::Real([T::ZERO; 3]));
     }
@@ -98,15 +105,19 @@ fn largest_root_guess<T: Real>(a: T, b: T, cc: T) -> T {
     let rr = (c::<T>(2.0) * sq(a) * a - c::<T>(9.0) * a * b + c::<T>(27.0) * cc) * c(1.0 / 54.0);
     let qq3 = sq(qq) * qq;
     if sq(rr) < qq3 {
-        // three real roots: -2 sqrt(Q) cos((theta + 2 pi k) / 3) - a / 3
+        // three real roots: -2 sqrt(Q) cos(theta + 2 pi k / 3) - a / 3 with
+        // theta = acos(t) / 3 = pi/6 - phi, phi = asin(t) / 3 in [-pi/6, pi/6], so the three
+        // cosines are sqrt(3)/2 cos phi + sin phi / 2, -sqrt(3)/2 cos phi + sin phi / 2 and
+        // -sin phi: one sine and cosine pair of a small angle, no reduction
         let sqrt_q = qq.sqrt();
         let t = (rr / (qq * sqrt_q)).max(-T::ONE).min(T::ONE);
-        let theta = t.acos() * third;
-        let two_pi_3 = c::<T>(2.0 * core::f64::consts::PI / 3.0);
+        let (sin_phi, cos_phi) = sin_cos_kernel(asin(t) * third);
         let m = c::<T>(-2.0) * sqrt_q;
-        let x1 = m * theta.cos() - shift;
-        let x2 = m * (theta + two_pi_3).cos() - shift;
-        let x3 = m * (theta - two_pi_3).cos() - shift;
+        let even = c::<T>(0.8660254037844386) * cos_phi;
+        let odd = sin_phi * c::<T>(0.5);
+        let x1 = m * (even + odd) - shift;
+        let x2 = m * (odd - even) - shift;
+        let x3 = -(m * sin_phi) - shift;
         let mut best = x1;
         if x2.abs() > best.abs() {
             best = x2;
@@ -117,7 +128,7 @@ fn largest_root_guess<T: Real>(a: T, b: T, cc: T) -> T {
         best
     } else {
         let root = (sq(rr) - qq3).max(T::ZERO).sqrt();
-        let big_a = -(rr.abs() + root).cbrt().copysign(rr);
+        let big_a = -cbrt(rr.abs() + root).copysign(rr);
         let big_b = if big_a != T::ZERO {
             qq / big_a
         } else {
@@ -271,4 +282,52 @@ fn polish_quartic<T: Real>(mut s: T, big_a: T, big_b: T, s3: T) -> T {
         k += 1;
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    use crate::test_rng::Lcg;
+
+    /// The closed forms' guess, before any Newton step, on cubics built from their roots
+    /// (three real roots: the trigonometric branch; one real root and a pair: Cardano's),
+    /// scaled as `solve_cubic` scales them: within a few ulps of the root of largest
+    /// magnitude where the roots are well apart, so the polish refines a right answer rather
+    /// than hiding a wrong one.
+    #[test]
+    fn the_closed_forms_guess_the_largest_root_to_a_few_ulps() {
+        let mut rng = Lcg(37);
+        let (mut worst_trig, mut worst_cardano) = (0.0f64, 0.0f64);
+        for _ in 0..20_000 {
+            // three real roots at least 0.2 apart in [-1, 1]
+            let mut r = [
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ];
+            r.sort_by(f64::total_cmp);
+            if r[1] - r[0] >= 0.2 && r[2] - r[1] >= 0.2 {
+                let a = -(r[0] + r[1] + r[2]);
+                let b = r[0] * r[1] + r[1] * r[2] + r[0] * r[2];
+                let cc = -(r[0] * r[1] * r[2]);
+                let big = if r[0].abs() > r[2].abs() { r[0] } else { r[2] };
+                let g = largest_root_guess(a, b, cc);
+                worst_trig = worst_trig.max((g - big).abs() / f64::EPSILON);
+            }
+            // one real root x and a pair re +- i im (im >= 0.2)
+            let (x, re, im) = (
+                rng.range(-1.0, 1.0),
+                rng.range(-0.5, 0.5),
+                rng.range(0.2, 0.6),
+            );
+            let a = -(x + 2.0 * re);
+            let b = 2.0 * re * x + re * re + im * im;
+            let cc = -x * (re * re + im * im);
+            let g = largest_root_guess(a, b, cc);
+            worst_cardano = worst_cardano.max((g - x).abs() / f64::EPSILON);
+        }
+        assert!(worst_trig <= 32.0, "trigonometric: {worst_trig} eps");
+        assert!(worst_cardano <= 32.0, "Cardano: {worst_cardano} eps");
+    }
 }

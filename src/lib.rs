@@ -134,7 +134,9 @@
 // `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod asin;
 mod body;
+mod cbrt;
 pub mod cubic;
 pub mod elliptic;
 mod error;

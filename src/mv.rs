@@ -1155,7 +1155,8 @@ impl<T: Real> Mv<T> {
         Self::solve_exactly(t, &k)
     }
 
-    /// The exact solve of the quartic (cubic roots with `acos`/`cos`/`cbrt`), polished on the
+    /// The exact solve of the quartic (the cubic's roots from the crate's own `asin`, sine,
+    /// cosine and cube root: no libm, crate::cubic), polished on the
     /// cancellation-free `g`: the fallback when Newton from the series cannot be trusted
     /// (`h |Omega|` of order one).
     #[cold]

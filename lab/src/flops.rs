@@ -128,7 +128,7 @@ mod tests {
     fn mv_steady_step_has_no_sqrt_and_no_trig() {
         let c = step_cost("mv", 0.1).unwrap();
         assert_eq!((c.momentum.sqrt, c.momentum.trans), (0, 0), "{c:?}");
-        // the exact solve at the first step is where the cubic's sqrt/cbrt/acos go
+        // the exact solve at the first step is where the cubic's square roots go
         assert!(c.first.sqrt > 0);
     }
 }

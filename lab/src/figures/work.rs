@@ -30,7 +30,7 @@ pub const CORTEX_M4F: [(&str, &str, f64); 10] = [
     ("split µmath", "splitting", 336.0),
     ("split sin_cos", "splitting", 418.0),
     ("split libm", "splitting", 585.0),
-    ("seed-mv", "seed-mv", 7189.0),
+    ("seed-mv", "seed-mv", 1753.0),
 ];
 
 /// The public scenes of the work-precision figure.
