@@ -198,6 +198,11 @@ fn principal_axes<T: Real>(a: [[T; 3]; 3]) -> Result<([T; 3], Mat3<T>), BodyErro
     {
         return Err(BodyError::NotSymmetric);
     }
+    // in units where the largest entry is in [1, 2): the sweeps' stopping test sums squares,
+    // which overflowed (a tensor of 1e154 came back as its diagonal, found in a first-use
+    // trial) or underflowed (axes 0.22 rad off at 1e-165); powers of two round nothing
+    let (up, down) = unit_scale(scale);
+    let a = a.map(|row| row.map(|x| x * up));
     let half = c::<T>(0.5);
     let mut s = [
         [
@@ -247,9 +252,41 @@ fn principal_axes<T: Real>(a: [[T; 3]; 3]) -> Result<([T; 3], Mat3<T>), BodyErro
     let e2 = largest_component_positive(cols[1].1);
     let e3 = e1.cross(e2);
     Ok((
-        [cols[0].0, cols[1].0, cols[2].0],
+        [cols[0].0 * down, cols[1].0 * down, cols[2].0 * down],
         Mat3::from_cols(e1, e2, e3),
     ))
+}
+
+/// Powers of two `(up, down = 1 / up)` with `x up` in `[1, 2)`; for a subnormal `x` the
+/// largest power of two `T` holds (`x up` then normal, short of 1: such moments are refused
+/// later anyway, [`Body::from_inertia`]); `(1, 1)` for zero or non-finite `x`.
+fn unit_scale<T: Real>(x: T) -> (T, T) {
+    if !(x > T::ZERO && x.is_finite()) {
+        return (T::ONE, T::ONE);
+    }
+    let (big, small) = (c::<T>(1099511627776.0), c::<T>(9.094947017729282e-13)); // 2^(+-40)
+    let (mut up, mut down, mut y) = (T::ONE, T::ONE, x);
+    while y >= big {
+        (y, up, down) = (y * small, up * small, down * big);
+    }
+    while y < small {
+        let next = up * big;
+        if !next.is_finite() {
+            break;
+        }
+        (y, up, down) = (y * big, next, down * small);
+    }
+    while y >= c::<T>(2.0) {
+        (y, up, down) = (y * c::<T>(0.5), up * c::<T>(0.5), down * c::<T>(2.0));
+    }
+    while y < T::ONE {
+        let next = up * c::<T>(2.0);
+        if !next.is_finite() {
+            break;
+        }
+        (y, up, down) = (y * c::<T>(2.0), next, down * c::<T>(0.5));
+    }
+    (up, down)
 }
 
 fn largest_component_positive<T: Real>(v: Vec3<T>) -> Vec3<T> {

@@ -20,7 +20,8 @@ use crate::real::Real;
 /// ([`Orbit::at`]), with no re-solving: it is what [`crate::Exact::at`] costs less the set-up.
 ///
 /// Accuracy: that of [`crate::Exact`] (f64: `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)`,
-/// `|q - q_ref| <= 3.7e-14` against 34-digit references at `t` up to 100). [`Orbit::at`] is
+/// `|q - q_ref| <= 3.7e-14` against 34-digit references at `t` up to 100; near the
+/// separatrix, for nearly symmetric bodies and for thin rods see the exceptions there). [`Orbit::at`] is
 /// bit-identical to `Exact::at(body, s0, t)`. Quaternions are `[w, x, y, z]`, body to space;
 /// `q(t)` is continuous in `t` and `q(0)` is the initial attitude (normalised).
 ///
@@ -56,6 +57,12 @@ impl<T: Real> Orbit<T> {
     /// `|m| / I` overflows.
     pub fn new(body: &Body<T>, s0: &State<T>) -> Result<Self, StepError> {
         let (m, q0) = checked_state(s0)?;
+        // to unit length to the last bit, as `Exact`'s steps start their trajectories:
+        // checked_state leaves `|q|` within 2^-10 as it is, and the evaluation's pull back to
+        // unit length is first order about `q0`, which turned an error of `|q0|` into one of
+        // the attitude (`|q0| = 1.0004`: 8e-4 rad; an f32-normalised `q0` widened to f64:
+        // 6.6e-8 rad, found in a first-use trial)
+        let (q0, _) = q0.normalize();
         Ok(Self {
             body: *body,
             flow: Flow::new(body, m, true)?,

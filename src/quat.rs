@@ -74,8 +74,10 @@ impl<T: Real> Quaternion<T> {
 
     /// `exp(v / 2)`: the rotation by the rotation vector `v` (angle `|v|` about `v / |v|`), the
     /// attitude error of [`crate::tangent`] (`q = q^ * Quaternion::from_rotation_vector(dtheta)`
-    /// is a multiplicative EKF's correction). Exact at `v = 0` (the identity) and accurate to
-    /// a few ulps for every finite `v` (`sin(a)/a` by its series below `a = 2^-13`; `|v|` from
+    /// is a multiplicative EKF's correction). Exact at `v = 0` (the identity); absolute error
+    /// about `eps (1 + |v| / 4)` (a few ulps for angles up to a few turns; rounding `|v|`
+    /// itself costs `eps |v|`, so a large angle is only as good as its own digits:
+    /// `sin(a)/a` by its series below `a = 2^-13`; `|v|` from
     /// the components scaled by the largest when `|v|^2` overflows, above about `1.8e19` in
     /// f32, so every finite `v` gives a unit quaternion). A NaN or infinite `v` gives a
     /// non-finite quaternion.
@@ -137,7 +139,9 @@ impl<T: Real> Quaternion<T> {
     /// it by about an ulp of one, so the angle is good to a few `eps` absolute (the
     /// attitudes' own resolution: `1e-7` rad in f32); where the product is exact (one of the
     /// two is the identity) to a few ulps of the angle, small ones included. `q` and `-q` are
-    /// the same attitude (angle zero).
+    /// the same attitude (angle zero). A zero quaternion is no attitude, but its angle to
+    /// anything comes out zero (as [`Quaternion::to_rotation_vector`] of it is the zero
+    /// vector): check attitudes that can be zeroed (`normalize` returns `None` for them).
     #[must_use]
     pub fn angle_to(self, other: Self) -> T {
         let d = self.conjugate().compose(other);

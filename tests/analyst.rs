@@ -212,3 +212,74 @@ fn a_zero_partial_step_and_a_reset_pause_move_nothing() {
     }
     check("exact", Exact::new(body, 0.05), s0);
 }
+
+/// A slightly non-unit `q0` is the attitude it points to (regression, first-use trial: the
+/// evaluation pulled `|q|` back to one to first order about `q0`, which turned `|q0| = 1.0004`
+/// into an attitude 8e-4 rad off and an f32-normalised `q0` widened to f64 into 6.6e-8 rad;
+/// `Exact`'s steps, which normalised, and `Exact::at` differed by as much). Oracle: the same
+/// orbit from the normalised `q0`, and `Exact`'s steps. A tiny or huge `q0` is a direction too.
+#[test]
+fn a_non_unit_initial_attitude_is_its_direction() {
+    let body = Body::<f64>::from_inertia([0.6, 0.8, 1.0]).unwrap();
+    let m = [1.8, 0.4, -0.9];
+    let unit = [0.5, 0.5, -0.5, 0.5];
+    let reference = Orbit::new(&body, &State::new(m, unit)).unwrap();
+    let widened = [0.5f32, 0.5, -0.5, 0.5].map(|x| f64::from(x * (1.0 - 3.0 * f32::EPSILON)));
+    for q0 in [
+        unit.map(|x| x * 1.0004),
+        unit.map(|x| x * 0.9996),
+        unit.map(|x| x * (1.0 + 1e-10)),
+        widened,
+        unit.map(|x| x * 1e-200),
+        unit.map(|x| x * 1e200),
+    ] {
+        let orbit = Orbit::new(&body, &State::new(m, q0)).unwrap();
+        for t in [0.0, 0.7, 3.0, 10.0, -10.0] {
+            let (a, r) = (orbit.at(t).unwrap(), reference.at(t).unwrap());
+            assert!(
+                qdist(a.q, r.q) <= 4e-16,
+                "{q0:?} t {t}: {:e}",
+                qdist(a.q, r.q)
+            );
+            let n2: f64 = a.q.iter().map(|x| x * x).sum();
+            assert!((n2 - 1.0).abs() <= 4.0 * f64::EPSILON, "{q0:?} t {t}");
+        }
+        let mut ex = Exact::new(body, 10.0);
+        let mut s = State::new(m, q0);
+        ex.step_state(&mut s).unwrap();
+        assert!(qdist(s.q, orbit.at(10.0).unwrap().q) <= 4e-16, "{q0:?}");
+    }
+}
+
+/// A subnormal momentum is a (very slow) motion like any other: `Orbit` and `Exact` follow it
+/// as `Mv` steps it (regression, first-use trial: refused as `Overflow`, nothing overflowing).
+/// Oracle: the same orbit scaled up by `2^600` (Euler's equations are homogeneous: `m -> k m`,
+/// `t -> t / k`), and `Mv`.
+#[test]
+fn a_subnormal_momentum_is_followed() {
+    let body = Body::<f64>::from_inertia([0.6, 0.8, 1.0]).unwrap();
+    let m = [1.8e-310, 0.4e-310, -0.9e-310];
+    let k = 2f64.powi(600);
+    let tiny = Orbit::new(&body, &State::new(m, [1.0, 0.0, 0.0, 0.0])).unwrap();
+    let scaled = Orbit::new(&body, &State::new(m.map(|x| x * k), [1.0, 0.0, 0.0, 0.0])).unwrap();
+    // the largest phase f64 time allows: |m| t / I about 0.04 rad
+    let t = 1e308;
+    let (a, b) = (tiny.at(t).unwrap(), scaled.at(t / k).unwrap());
+    assert!(qdist(b.q, [1.0, 0.0, 0.0, 0.0]) > 1e-2, "the body turned");
+    for i in 0..3 {
+        // the subnormal components carry about 40 bits
+        assert!(
+            (a.m[i] * k - b.m[i]).abs() <= 1e-11 * norm(b.m),
+            "{a:?} {b:?}"
+        );
+    }
+    assert!(qdist(a.q, b.q) <= 1e-11);
+    let mut mv = Mv::new(body, 1.0);
+    let mut stepped = m;
+    mv.step(&mut stepped).unwrap();
+    assert_eq!(
+        Exact::momentum_at(&body, &m, 1.0).unwrap(),
+        tiny.momentum_at(1.0).unwrap()
+    );
+    assert!(dist(stepped, tiny.momentum_at(1.0).unwrap()) <= 1e-320);
+}

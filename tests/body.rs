@@ -285,3 +285,44 @@ fn errors_are_core_errors_without_any_feature() {
     let boxed: Box<dyn std::error::Error> = rigid3::StepError::Overflow.into();
     assert!(boxed.to_string().contains("overflow"));
 }
+
+/// Homogeneity: `2^k A` has the eigenvalues `2^k lambda` and the same axes, and scaling by a
+/// power of two rounds nothing, so every normal scale gives the scale-1 result bit for bit
+/// (moments times `2^k`, the same frame). Regression (first-use trial): the sweeps' stopping
+/// test summed squares, which overflowed from `1e154` in f64 (the diagonal came back, moments
+/// 1 % off) and `1e19` in f32, and underflowed below `1e-155` (axes 0.22 rad off at `1e-165`).
+#[test]
+fn tensors_at_any_scale_decompose_as_at_scale_one() {
+    let a = [[2.0, 0.1, 0.0], [0.1, 3.0, -0.2], [0.0, -0.2, 4.0]];
+    let (b1, q1) = Body::<f64>::from_inertia_tensor(a).unwrap();
+    for k in (-1000..=1000).step_by(10) {
+        let s = 2f64.powi(k);
+        let (b, q) = Body::<f64>::from_inertia_tensor(a.map(|r| r.map(|x| x * s))).unwrap();
+        assert_eq!(q, q1, "2^{k}");
+        assert_eq!(b.inertia(), b1.inertia().map(|x| x * s), "2^{k}");
+    }
+    // the trial's case against mpmath's eigsy (40 digits): moments 1.98990102456512e154,
+    // 2.97140630649139e154, 4.03869266894349e154
+    let (b, _) = Body::<f64>::from_inertia_tensor(a.map(|r| r.map(|x| x * 1e154))).unwrap();
+    let want = [
+        1.98990102456512e154,
+        2.97140630649139e154,
+        4.03869266894349e154,
+    ];
+    for (g, w) in b.inertia().into_iter().zip(want) {
+        assert!(((g - w) / w).abs() < 1e-13, "{g:e} {w:e}");
+    }
+    let a32 = a.map(|r| r.map(|x| x as f32));
+    let (b1, q1) = Body::<f32>::from_inertia_tensor(a32).unwrap();
+    for k in -100..=100 {
+        let s = 2f32.powi(k);
+        let (b, q) = Body::<f32>::from_inertia_tensor(a32.map(|r| r.map(|x| x * s))).unwrap();
+        assert_eq!(q, q1, "f32 2^{k}");
+        assert_eq!(b.inertia(), b1.inertia().map(|x| x * s), "f32 2^{k}");
+    }
+    // a singular tensor near the top of the range (eigenvalues 0, 3.4e308, 1.7e308) is refused,
+    // not returned as its diagonal
+    let big = 1.7e308;
+    let singular = [[big, big, 0.0], [big, big, 0.0], [0.0, 0.0, big]];
+    assert!(Body::<f64>::from_inertia_tensor(singular).is_err());
+}

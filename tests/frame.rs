@@ -297,3 +297,46 @@ fn frame_moves_vectors_attitudes_and_states_between_the_tensor_and_principal_fra
         assert!(dist(a, b) <= 1e-14);
     }
 }
+
+/// `normalize` gives unit length and the same direction at any scale (regression, first-use
+/// trial: `[3e-160, 4e-160, 0, 0]` came out `5.6e-6` off unit length in f64, `[3e-22, 4e-22, 0,
+/// 0]` `1.1e-3` in f32, and `[3e200, 4e200, 0, 0]` was refused as `None`).
+#[test]
+fn normalize_at_any_scale() {
+    for s in [1e-320, 1e-300, 3e-160, 1e-100, 1.0, 1e100, 1e200, 1e300] {
+        let (x, z) = (3.0 * s / 5.0, 4.0 * s / 5.0);
+        let n = Quaternion::new(0.0f64, x, 0.0, z).normalize().unwrap();
+        // a subnormal input has few significant bits: its own direction, read at a normal
+        // scale (times 2^1000, exact)
+        let want = if s < 1e-300 {
+            let k = 2f64.powi(1000);
+            Quaternion::new(0.0, x * k, 0.0, z * k).normalize().unwrap()
+        } else {
+            Quaternion::new(0.0, 0.6, 0.0, 0.8)
+        };
+        assert!(qclose(n, want, 4e-16), "{s:e}: {n:?}");
+        assert!(
+            (n.norm_squared() - 1.0).abs() <= 4.0 * f64::EPSILON,
+            "{s:e}"
+        );
+    }
+    for s in [1e-44f32, 1e-30, 3e-22, 1.0, 1e20, 1e38] {
+        let c = [0.3 * s, 0.4 * s, -0.5 * s, 0.1 * s];
+        let n = Quaternion::from_array(c).normalize().unwrap();
+        // a subnormal input (1e-44: a few significant bits) has its own direction
+        let k = if s < 1e-38 { 2f32.powi(100) } else { 1.0 / s };
+        let want = Quaternion::from_array(c.map(|x| x * k))
+            .normalize()
+            .unwrap();
+        let d = n
+            .to_array()
+            .into_iter()
+            .zip(want.to_array())
+            .fold(0.0f32, |acc, (a, b)| acc.max((a - b).abs()));
+        assert!(d <= 4.0 * f32::EPSILON, "{s:e}: {d:e}");
+        assert!(
+            (n.norm_squared() - 1.0).abs() <= 4.0 * f32::EPSILON,
+            "{s:e}"
+        );
+    }
+}
