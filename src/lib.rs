@@ -165,6 +165,7 @@ mod quat;
 mod real;
 mod rk4;
 mod sincos;
+mod sincos_far;
 mod splitting;
 pub mod tangent;
 #[cfg(test)]

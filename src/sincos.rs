@@ -25,13 +25,16 @@
 //! polynomials add about an ulp. Absolute error at most `1.5 eps` (in ulps of one), checked
 //! by the unit tests: the f32 function against f64 libm on the same argument, the f64
 //! function against f64 libm (itself within an ulp). Near a zero of `sin` or `cos` the bound is
-//! absolute, not relative. Beyond the reduction limit (`|x| > 6000` in f32, `1e6` in f64) and
-//! for non-finite `x` the libm functions are called.
+//! absolute, not relative. Beyond the reduction limit (`|x| > 6000` in f32, `1e6` in f64) the
+//! reduction is crate::sincos_far's (exact products and TwoSum, up to `6.6e6` rad in f32 and
+//! `3.5e15` in f64; the same bound, 0.725 eps worst over every f32 there); beyond that and
+//! for non-finite `x` the public [`sin_cos`] calls libm, the torque models get NaN.
 
 use crate::real::{c, Real};
+use crate::sincos_far::reduce_far;
 
 /// `(sin x, cos x)` in `T` arithmetic, for angles evaluated every tick (an orbit angle, a
-/// torque's phase): 70 instructions for both in f32 on a Cortex-M4F, where libm's `sinf` and
+/// torque's phase): 71 instructions for both in f32 on a Cortex-M4F, where libm's `sinf` and
 /// `cosf` compute in double in software (4003 for the pair at angles of 1–100 rad;
 /// `scripts/firmware`). On x86-64 the two cost about the same.
 ///
@@ -41,8 +44,11 @@ use crate::real::{c, Real};
 /// `1.8e-9` and `4.6e-17`).
 ///
 /// Accuracy: absolute error at most `1.5 eps` (tested against libm in f64: 0.88 eps worst in
-/// f32 over every input, checked exhaustively in review; 1.0 in f64) for `|x|` up to 6000 in f32 and `1e6` in f64; beyond, and for NaN or
-/// infinite `x`, it returns libm's `sin` and `cos` (so NaN for a non-finite `x`). Near a zero of
+/// f32 over every input up to 6000, checked exhaustively in review; 1.0 in f64) for `|x|` up
+/// to 6000 in f32 and `1e6` in f64; from there to `6.6e6` rad in f32 and `3.5e15` in f64 a
+/// longer reduction (`pi/2` in five parts, exact products, TwoSum: a few hundred instructions
+/// on the M4F) keeps the bound (0.725 eps worst over every f32 argument there); beyond, and for
+/// NaN or infinite `x`, it returns libm's `sin` and `cos` (so NaN for a non-finite `x`). Near a zero of
 /// `sin` or `cos` the bound is absolute, not relative.
 ///
 /// ```
@@ -52,10 +58,55 @@ use crate::real::{c, Real};
 /// ```
 #[inline]
 pub fn sin_cos<T: Real>(x: T) -> (T, T) {
-    let single = T::EPSILON.to_f64() > 1e-10;
     if !(x.abs() <= c::<T>(reduction_limit::<T>())) {
-        return (x.sin(), x.cos());
+        return far_or_libm(x);
     }
+    near(x).unwrap_or_else(|| (x.sin(), x.cos()))
+}
+
+/// [`sin_cos`] without libm, NaN for both where it would call libm (`|x|` beyond
+/// [`crate::sincos_far::far_limit`], a non-finite `x`, or arithmetic with excess precision):
+/// the torque models' angles (crate::torque), whose NaN torque a forced step refuses
+/// (`NonFinite`) rather than link libm for an angle with less than two bits left (beyond
+/// 6.6e6 rad in f32).
+#[inline]
+pub(crate) fn sin_cos_or_nan<T: Real>(x: T) -> (T, T) {
+    let nan = || {
+        let nan = c::<T>(f64::NAN);
+        (nan, nan)
+    };
+    if !(x.abs() <= c::<T>(reduction_limit::<T>())) {
+        return far(x).unwrap_or_else(nan);
+    }
+    near(x).unwrap_or_else(nan)
+}
+
+/// Past the Cody–Waite limit: the far reduction, libm beyond it. Out of line (an inlined far
+/// path cost every near call two M4F instructions).
+#[cold]
+#[inline(never)]
+fn far_or_libm<T: Real>(x: T) -> (T, T) {
+    far(x).unwrap_or_else(|| (x.sin(), x.cos()))
+}
+
+/// `(sin x, cos x)` by crate::sincos_far's reduction, `None` beyond its limit.
+#[cold]
+#[inline(never)]
+fn far<T: Real>(x: T) -> Option<(T, T)> {
+    let (r, k) = reduce_far(x)?;
+    let single = T::EPSILON.to_f64() > 1e-10;
+    let magic = c::<T>(if single {
+        12582912.0
+    } else {
+        6755399441055744.0
+    });
+    by_quadrant(k, sin_cos_kernel(r), magic)
+}
+
+/// `(sin x, cos x)` for `|x|` within the Cody–Waite limit; `None` only with excess precision.
+#[inline(always)]
+fn near<T: Real>(x: T) -> Option<(T, T)> {
+    let single = T::EPSILON.to_f64() > 1e-10;
     let (p1, p2, p3, magic) = if single {
         (
             1.57080078125,
@@ -75,22 +126,27 @@ pub fn sin_cos<T: Real>(x: T) -> (T, T) {
     // round to nearest by the magic constant (no `round` in core for floats)
     let k = (x * c::<T>(core::f64::consts::FRAC_2_PI) + magic) - magic;
     let r = ((x - k * c::<T>(p1)) - k * c::<T>(p2)) - k * c::<T>(p3);
-    let (s, co) = sin_cos_kernel(r);
-    // the quadrant k mod 4 as q = k - 4 round(k / 4) in {-2, ..., 2}, exactly, in T (a
-    // conversion to an integer went through f64 in software on the M4F)
+    by_quadrant(k, sin_cos_kernel(r), magic)
+}
+
+/// `(sin x, cos x)` from those of `r = x - k pi/2`: the quadrant `k mod 4` as
+/// `q = k - 4 round(k / 4)` in `{-2, ..., 2}`, exactly, in `T` (a conversion to an integer went
+/// through f64 in software on the M4F). `None` where `k` was not rounded to an integer: only
+/// where the arithmetic keeps excess precision (x87 without SSE), which the magic-constant
+/// rounding needs to be absent.
+#[inline(always)]
+fn by_quadrant<T: Real>(k: T, (s, co): (T, T), magic: T) -> Option<(T, T)> {
     let q = k - c::<T>(4.0) * ((k * c::<T>(0.25) + magic) - magic);
     if q == T::ZERO {
-        (s, co)
+        Some((s, co))
     } else if q == T::ONE {
-        (co, -s)
+        Some((co, -s))
     } else if q == -T::ONE {
-        (-co, s)
+        Some((-co, s))
     } else if q.abs() == c::<T>(2.0) {
-        (-s, -co)
+        Some((-s, -co))
     } else {
-        // k was not rounded to an integer: only where the arithmetic keeps excess precision
-        // (x87 without SSE), which the magic-constant rounding needs to be absent
-        (x.sin(), x.cos())
+        None
     }
 }
 
@@ -198,10 +254,61 @@ mod tests {
         assert!(worst64 <= 1.5, "f64: {worst64} eps");
     }
 
-    /// Beyond the reduction limit and for non-finite input the libm functions answer.
+    /// Past the Cody–Waite limit up to the far reduction's (crate::sincos_far), against f64
+    /// libm on the same argument (f32) and libm (f64), absolute errors in `eps`: arguments on
+    /// a log scale, and the floats nearest to multiples of `pi/2` and their neighbours, where
+    /// `x - k pi/2` cancels most (the reduction's hardest inputs).
+    #[test]
+    fn far_arguments_are_within_one_and_a_half_eps_of_libm() {
+        let mut rng = Lcg(13);
+        let (mut worst32, mut worst64) = (0.0f64, 0.0f64);
+        let mut check32 = |x: f32| {
+            let (s, co) = sin_cos_or_nan(x);
+            let xd = f64::from(x);
+            let e = (f64::from(s) - libm::sin(xd))
+                .abs()
+                .max((f64::from(co) - libm::cos(xd)).abs());
+            worst32 = worst32.max(e / f64::from(f32::EPSILON));
+        };
+        let lim32 = crate::sincos_far::far_limit::<f32>();
+        for _ in 0..300_000 {
+            let x = 10f64.powf(3.7 + (lim32.log10() - 3.7) * rng.next()) as f32;
+            check32(if rng.next() < 0.5 { x } else { -x });
+            // the float nearest k pi/2 and its neighbours
+            let k = (rng.next() * lim32 / core::f64::consts::FRAC_PI_2).floor();
+            let mut x = (k * core::f64::consts::FRAC_PI_2) as f32;
+            if f64::from(x.abs()) < lim32 && x.abs() > 6000.0 {
+                for _ in 0..3 {
+                    check32(x);
+                    x = x.next_up();
+                }
+            }
+        }
+        let mut check64 = |x: f64| {
+            let (s, co) = sin_cos_or_nan(x);
+            let e = (s - libm::sin(x)).abs().max((co - libm::cos(x)).abs());
+            worst64 = worst64.max(e / f64::EPSILON);
+        };
+        let lim64 = crate::sincos_far::far_limit::<f64>();
+        for _ in 0..100_000 {
+            let x = 10f64.powf(6.0 + (lim64.log10() - 6.0) * rng.next());
+            check64(if rng.next() < 0.5 { x } else { -x });
+        }
+        assert!(worst32 <= 1.5, "f32: {worst32} eps");
+        assert!(worst64 <= 1.5, "f64: {worst64} eps");
+        // the limit itself: beyond it (and for non-finite x) no result without libm
+        assert!(sin_cos_or_nan((lim32 * 1.0001) as f32).0.is_nan());
+        assert!(sin_cos_or_nan(lim64 * 1.0001).1.is_nan());
+        assert!(sin_cos_or_nan(f32::NAN).0.is_nan() && sin_cos_or_nan(f64::INFINITY).1.is_nan());
+        // and the public function agrees with the libm-free one up to the limit
+        assert_eq!(sin_cos(1e6f32), sin_cos_or_nan(1e6f32));
+        assert_eq!(sin_cos(1e12f64), sin_cos_or_nan(1e12f64));
+    }
+
+    /// Beyond the far reduction's limit and for non-finite input the libm functions answer.
     #[test]
     fn large_and_non_finite_arguments_go_to_libm() {
-        for x in [7000.0f32, -1e20, f32::MAX] {
+        for x in [7e6f32, -1e20, f32::MAX] {
             assert_eq!(sin_cos(x), (libm::sinf(x), libm::cosf(x)));
         }
         let (s, co) = sin_cos(f64::NAN);

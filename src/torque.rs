@@ -12,7 +12,7 @@
 
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, Real};
-use crate::sincos::sin_cos;
+use crate::sincos::sin_cos_or_nan;
 
 /// A body-frame torque as a function of time and attitude.
 ///
@@ -108,9 +108,10 @@ impl<T: Real> Torque<T> for ConstantTorque<T> {
 /// A periodic body-frame torque `tau_i(t) = A_i cos(W_i t + P_i)`.
 ///
 /// Three cosines per evaluation, by the crate's own reduction and polynomial (absolute error at
-/// most `1.5 eps` for `|W_i t + P_i|` up to 6000 rad in f32 and `1e6` in f64, libm's beyond;
-/// about 70 instructions each on a Cortex-M4F, where libm's `cosf` computes in double in
-/// software, about 2000).
+/// most `1.5 eps` for `|W_i t + P_i|` up to 6.6e6 rad in f32 and `3.5e15` in f64; about 70
+/// instructions each on a Cortex-M4F up to 6000 rad, where libm's `cosf` computes in double in
+/// software, about 2000; no libm is linked). Beyond, where an ulp of the angle is a quarter
+/// radian or more, the torque is NaN and a forced step refuses it (`NonFinite`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PeriodicTorque<T> {
@@ -128,9 +129,9 @@ impl<T: Real> Torque<T> for PeriodicTorque<T> {
         let [w1, w2, w3] = self.freq;
         let [p1, p2, p3] = self.phase;
         [
-            a1 * sin_cos(w1 * t + p1).1,
-            a2 * sin_cos(w2 * t + p2).1,
-            a3 * sin_cos(w3 * t + p3).1,
+            a1 * sin_cos_or_nan(w1 * t + p1).1,
+            a2 * sin_cos_or_nan(w2 * t + p2).1,
+            a3 * sin_cos_or_nan(w3 * t + p3).1,
         ]
     }
     fn depends_on_attitude(&self) -> bool {
@@ -196,8 +197,11 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// `V = (3K/2) r . I r` (the quadrupole term of `-mu/|R + rho|` integrated over the body;
 /// `K = mu / R^3 = N^2` for a Keplerian circular orbit; Hughes, Spacecraft Attitude Dynamics,
 /// §8.2). The orbit is in the spatial x–y plane. One `sin`/`cos` pair per evaluation, by the
-/// crate's own reduction and polynomials (absolute error at most `1.5 eps` for `|N t|` up to
-/// 6000 rad in f32, 64 days of a 90-minute orbit, and `1e6` in f64; libm's beyond). That
+/// crate's own reduction and polynomials, no libm (absolute error at most `1.5 eps` for `|N t|`
+/// up to 6.6e6 rad in f32, 190 years of a 90-minute orbit, and `3.5e15` in f64; beyond, where
+/// an ulp of the angle is a quarter radian or more, the torque is NaN and a forced step refuses
+/// it with `NonFinite`; about 70 M4F instructions up to 6000 rad, 64 days, a few hundred
+/// beyond). That
 /// bound is for the argument as formed: `N t` carries the rounding of `t` itself, an ulp of
 /// which is 0.5 s at 64 days in f32 (`t = 5.5e6 s`), so the nadir direction is then good to
 /// `N ulp(t)`, about `5e-4` rad (the torque measured `7e-4` relative off its f64 value there,
@@ -235,7 +239,7 @@ impl<T: Real> GravityGradient<T> {
     /// `r = R(q)^T (cos N t, sin N t, 0)`.
     #[inline]
     fn nadir(&self, t: T, q: &[T; 4]) -> Vec3<T> {
-        let (sin, cos) = sin_cos(self.n * t);
+        let (sin, cos) = sin_cos_or_nan(self.n * t);
         let n = Vec3::new(cos, sin, T::ZERO);
         Quat::from_array(*q).inverse_rotate(n)
     }

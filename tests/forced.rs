@@ -2106,3 +2106,50 @@ fn composed_command_on_a_zero_model_is_not_held() {
         }
     }
 }
+
+/// The torque models' angles past the Cody–Waite limit (6000 rad in f32) use the crate's far
+/// reduction, no libm: the gravity gradient at orbit angles up to 6.6e6 rad in f32 matches the
+/// same torque evaluated in f64 at the same (f32) time to f32 rounding, and beyond, where an
+/// ulp of the angle is a quarter radian, the torque is NaN and a forced step is refused
+/// (`NonFinite`) with state and time untouched.
+#[test]
+fn orbit_angles_far_out_need_no_libm_and_are_refused_past_the_limit() {
+    let body32 = Body::<f32>::from_inertia([60.0, 95.0, 120.0]).unwrap();
+    let body64 = Body::<f64>::from_inertia([60.0, 95.0, 120.0]).unwrap();
+    let n = 1.1636e-3f32;
+    let (gg32, gg64) = (
+        GravityGradient::circular(&body32, n),
+        GravityGradient::circular(&body64, f64::from(n)),
+    );
+    let q = [0.9f32, 0.1, -0.3, 0.2].map(|x| x / 0.95f32.sqrt());
+    let q64 = q.map(f64::from);
+    let mut rng = Rng::new(41);
+    let mut worst = 0.0f64;
+    for _ in 0..20_000 {
+        // orbit angle N t from 6000 to 6.5e6 rad
+        let angle = 10f64.powf(rng.range(3.78, 6.81));
+        let t = (angle / f64::from(n)) as f32;
+        let a = gg32.torque(t, &q);
+        // the same angle, as f32 forms it, in f64
+        let angle32 = f64::from(n * t);
+        let b = gg64.torque(angle32 / f64::from(n), &q64);
+        let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(1e-30);
+        for i in 0..3 {
+            worst = worst.max((f64::from(a[i]) - b[i]).abs() / scale);
+        }
+    }
+    assert!(
+        worst < 1e-5,
+        "f32 torque against f64 at the same angle: {worst:e}"
+    );
+    // beyond the limit: refused
+    let mut f = Forced::new(Mv::new(body32, 0.01f32), gg32);
+    let far = (7e6 / f64::from(n)) as f32;
+    assert!(gg32.torque(far, &q).iter().all(|x| x.is_nan()));
+    f.set_time(far).unwrap();
+    let s0 = State::new([1.8f32, -4.75, 4.8], q);
+    let mut s = s0;
+    assert_eq!(f.step_state(&mut s), Err(StepError::NonFinite));
+    assert_eq!(s, s0);
+    assert_eq!(f.time(), far);
+}
