@@ -895,7 +895,9 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
 
     /// Sets the rotor momentum `h_r` (reaction wheels), in the body frame: the principal axes
     /// of the [`Body`] (wheels mounted along a structure's axes go through
-    /// [`crate::Frame::to_principal`]). May change between steps.
+    /// [`crate::Frame::to_principal`]). May change between steps; the value set before a step
+    /// is held constant over that whole step (a zero-order hold: for wheels whose momentum
+    /// changes within a tick, pass the value the tick should see).
     ///
     /// Convention: `m` is the total angular momentum in the body frame (body and wheels), and
     /// the body turns at `Omega = I^-1 (m - h_r)`; a change of `h_r` alone (a wheel command)
