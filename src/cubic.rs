@@ -231,9 +231,14 @@ pub(crate) fn complex_sqrt<T: Real>(re: T, im: T) -> (T, T) {
 /// `None` when the cubic has a negative real root (then no real DMV step exists: docs/MATH.md §3)
 /// or the input is not finite. Accuracy: a few ulps of `s1` times the quartic's condition
 /// number at `s1`, which stays moderate because `s1` is a simple root even where two `mu_i`
-/// meet. Inputs should be of order one (the DMV steps scale them so).
+/// meet. Inputs should be of order one (the DMV steps scale them so). `s3 = J1 J2 J3` is
+/// positive for every body; `None` for a negative `s3` (the `mu_i` then do not give the
+/// quartic's roots as above; found in review: `Some` of a non-root came back).
 #[must_use]
 pub fn quartic_largest_root<T: Real>(big_a: T, big_b: T, s3: T) -> Option<T> {
+    if s3 < T::ZERO {
+        return None;
+    }
     let roots = solve_cubic(-big_a, big_b, -sq(s3))?;
     let s = match roots {
         CubicRoots::Real([m0, m1, m2]) => {

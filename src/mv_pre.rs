@@ -674,20 +674,23 @@ impl<T: Real> Modifier<T> {
         let cp = [T::ONE, cc, sq(cc), sq(cc) * cc];
         let xp = [T::ONE, xx, sq(xx), sq(xx) * xx];
         let (mut s_c, mut s_x, mut d_c, mut d_x) = (T::ZERO, T::ZERO, T::ZERO, T::ZERO);
-        // s[k][a] multiplies C^a X^(k + 1 - a)
+        // s[k][a] multiplies C^a X^(k + 1 - a); the powers read with `get` (always in range:
+        // at opt-level `s` the indexing kept its bounds checks, a panic path in the firmware's
+        // no-panic build there, found in review)
+        let pw = |p: &[T; 4], i: usize| p.get(i).copied().unwrap_or(T::ZERO);
         for (k, (sk, dk)) in self.s.iter().zip(self.d.iter()).enumerate() {
             let deg = k + 1;
-            for a in 0..=deg {
+            for (a, (&sa, &da)) in sk.iter().zip(dk.iter()).enumerate().take(deg + 1) {
                 let b = deg - a;
                 if a > 0 {
-                    let w = c::<T>(a as f64) * cp[a - 1] * xp[b];
-                    s_c += sk[a] * w;
-                    d_c += dk[a] * w;
+                    let w = c::<T>(a as f64) * pw(&cp, a - 1) * pw(&xp, b);
+                    s_c += sa * w;
+                    d_c += da * w;
                 }
                 if b > 0 {
-                    let w = c::<T>(b as f64) * cp[a] * xp[b - 1];
-                    s_x += sk[a] * w;
-                    d_x += dk[a] * w;
+                    let w = c::<T>(b as f64) * pw(&cp, a) * pw(&xp, b - 1);
+                    s_x += sa * w;
+                    d_x += da * w;
                 }
             }
         }

@@ -40,14 +40,16 @@ pub(crate) fn reduce_far<T: Real>(x: T) -> Option<(T, T)> {
         return None;
     }
     let single = T::EPSILON.to_f64() > 1e-10;
+    // converted to T here, literal by literal (a table of f64 converted inside the loop was
+    // converted at run time at opt-level `s`, software double on the M4F, found in review)
     let (parts, b_scale, magic) = if single {
         (
             [
-                1.57080078125,
-                -4.453584551811218e-6,
-                -8.706138032721356e-10,
-                6.222800053024002e-14,
-                5.721188916458728e-18,
+                c::<T>(1.57080078125),
+                c::<T>(-4.453584551811218e-6),
+                c::<T>(-8.706138032721356e-10),
+                c::<T>(6.222800053024002e-14),
+                c::<T>(5.721188916458728e-18),
             ],
             4096.0,
             12582912.0,
@@ -55,11 +57,11 @@ pub(crate) fn reduce_far<T: Real>(x: T) -> Option<(T, T)> {
     } else {
         (
             [
-                1.5707963407039642,
-                -1.3909067675399456e-8,
-                6.123233932053594e-17,
-                6.368317178484799e-25,
-                -1.4973849048591698e-33,
+                c::<T>(1.5707963407039642),
+                c::<T>(-1.3909067675399456e-8),
+                c::<T>(6.123233932053594e-17),
+                c::<T>(6.368317178484799e-25),
+                c::<T>(-1.4973849048591698e-33),
             ],
             67108864.0,
             6755399441055744.0,
@@ -74,19 +76,19 @@ pub(crate) fn reduce_far<T: Real>(x: T) -> Option<(T, T)> {
 /// `x - k pi/2` by the exact products and TwoSum of the module docs, then one more `pi/2` off
 /// where the first `k` was one off: `(r, the change of k)`.
 #[inline(always)]
-fn remainder<T: Real>(x: T, k: T, p: &[f64; 5], b_scale: T, magic: T) -> (T, T) {
+fn remainder<T: Real>(x: T, k: T, p: &[T; 5], b_scale: T, magic: T) -> (T, T) {
     let k_hi = ((k / b_scale + magic) - magic) * b_scale;
     let k_lo = k - k_hi;
     let (mut hi, mut lo) = (x, T::ZERO);
-    for &pi in &p[..4] {
-        let part = c::<T>(pi);
+    let [p1, p2, p3, p4, p5] = *p;
+    for part in [p1, p2, p3, p4] {
         for term in [k_hi * part, k_lo * part] {
             let (s, e) = two_sum(hi, -term);
             hi = s;
             lo += e;
         }
     }
-    lo -= k * c::<T>(p[4]);
+    lo -= k * p5;
     let r = hi + lo;
     let quarter = c::<T>(core::f64::consts::FRAC_PI_4);
     if !(r.abs() > quarter) {
@@ -95,8 +97,8 @@ fn remainder<T: Real>(x: T, k: T, p: &[f64; 5], b_scale: T, magic: T) -> (T, T) 
     // the first k was one off: r - sign(r) pi/2, from hi + lo with the same parts (k = +-1:
     // every product exact)
     let one = T::ONE.copysign(r);
-    for &pi in p {
-        let (s, e) = two_sum(hi, -(one * c::<T>(pi)));
+    for part in [p1, p2, p3, p4, p5] {
+        let (s, e) = two_sum(hi, -(one * part));
         hi = s;
         lo += e;
     }

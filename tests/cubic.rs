@@ -295,4 +295,8 @@ fn quartic_with_a_negative_mu_has_no_dmv_root() {
     let s3 = (mu[0] * mu[1] * mu[2]).sqrt();
     assert_eq!(quartic_largest_root(big_a, big_b, s3), None);
     assert_eq!(quartic_largest_root(f64::NAN, 1.0, 1.0), None);
+    // a negative s3 is no body's (review: Some(0.4813) came back, where the quartic is 9.29;
+    // its real roots are -2.435 and -0.807)
+    let (a, b, s3) = (2.3747199913755264, -0.4579689017168187, -0.7429634373670322);
+    assert_eq!(quartic_largest_root(a, b, s3), None);
 }
