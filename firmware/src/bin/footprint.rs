@@ -1,5 +1,7 @@
-//! The footprint check: the README's firmware quick start (`Forced<f32, Mv, GravityGradient>`
-//! with wheels set and a measured `dt` every tick) alone in a binary, on inputs the compiler
+//! The footprint check: the propagator of the README's firmware quick start
+//! (`Forced<f32, Mv, GravityGradient>` with wheels set and a measured `dt` every tick; the same
+//! calls, written again here: scripts/downstream compiles the README's own block) alone in a
+//! binary, on inputs the compiler
 //! cannot see (volatile reads), with a panic handler that calls a symbol that does not exist.
 //! `scripts/footprint` builds it at opt-levels 3, `s` and `z` and checks that it links (no
 //! panic path), that it holds no libm function and no software double (`__aeabi_d*`), and
