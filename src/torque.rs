@@ -200,7 +200,7 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// crate's own reduction and polynomials, no libm (absolute error at most `1.5 eps` for `|N t|`
 /// up to 6.6e6 rad in f32, 190 years of a 90-minute orbit, and `3.5e15` in f64; beyond, where
 /// an ulp of the angle is a quarter radian or more, the torque is NaN and a forced step refuses
-/// it with `NonFinite`; about 70 M4F instructions up to 6000 rad, 64 days, a few hundred
+/// it with `NonFinite`; about 70 M4F instructions up to 6000 rad, 64 days, 206
 /// beyond). That
 /// bound is for the argument as formed: `N t` carries the rounding of `t` itself, an ulp of
 /// which is 0.5 s at 64 days in f32 (`t = 5.5e6 s`), so the nadir direction is then good to
