@@ -198,7 +198,7 @@ impl<T: Real> Torque<T> for Gravity<T> {
 /// `K = mu / R^3 = N^2` for a Keplerian circular orbit; Hughes, Spacecraft Attitude Dynamics,
 /// §8.2). The orbit is in the spatial x–y plane. One `sin`/`cos` pair per evaluation, by the
 /// crate's own reduction and polynomials, no libm (absolute error at most `1.5 eps` for `|N t|`
-/// up to 6.6e6 rad in f32, 190 years of a 90-minute orbit, and `3.5e15` in f64; beyond, where
+/// up to 6.6e6 rad in f32, 180 years of a 90-minute orbit, and `3.5e15` in f64; beyond, where
 /// an ulp of the angle is a quarter radian or more, the torque is NaN and a forced step refuses
 /// it with `NonFinite`; about 70 M4F instructions up to 6000 rad, 64 days, 206
 /// beyond). That
