@@ -264,18 +264,11 @@ fn unit_scale<T: Real>(x: T) -> (T, T) {
     if !(x > T::ZERO && x.is_finite()) {
         return (T::ONE, T::ONE);
     }
-    let (big, small) = (c::<T>(1099511627776.0), c::<T>(9.094947017729282e-13)); // 2^(+-40)
-    let (mut up, mut down, mut y) = (T::ONE, T::ONE, x);
-    while y >= big {
-        (y, up, down) = (y * small, up * small, down * big);
-    }
-    while y < small {
-        let next = up * big;
-        if !next.is_finite() {
-            break;
-        }
-        (y, up, down) = (y * big, next, down * small);
-    }
+    // into [2^-40, 2^40] by the steppers' powers of 2^40 (the largest for a subnormal x),
+    // then by 2
+    let (mut up, mut down) = crate::integrator::homogeneous_scale(Vec3::new(x, T::ZERO, T::ZERO))
+        .unwrap_or((T::ONE, T::ONE));
+    let mut y = x * up;
     while y >= c::<T>(2.0) {
         (y, up, down) = (y * c::<T>(0.5), up * c::<T>(0.5), down * c::<T>(2.0));
     }

@@ -81,7 +81,9 @@
 use crate::body::Body;
 use crate::elliptic::{carlson_rf, carlson_rj, Jacobi};
 use crate::error::StepError;
-use crate::integrator::{checked_momentum, checked_state, compose_attitude, Integrator, State};
+use crate::integrator::{
+    checked_momentum, checked_state, checked_unit_state, compose_attitude, Integrator, State,
+};
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, sq, Real};
 
@@ -585,16 +587,12 @@ impl<T: Real> Exact<T> {
             _ => {
                 let (mv, qv) = match q {
                     Some(q) => {
-                        let (mv, qv) = checked_state(&State::new(*m, q))?;
-                        // a new trajectory starts from a unit attitude (checked_state leaves
-                        // `|q|` within 2^-10 as it is): the evaluation's pull back to unit
-                        // length is first order about `q0`, and past half a turn a step
-                        // (`cos(theta / 2) < 0`) it scales an error of `|q0|` by up to
-                        // `1 - cos(theta / 2)`; rebuilt from its own output at every change
-                        // of `h`, a tumble at 5 rad a step grew `|q| - 1` 1.8x a step to
-                        // 8.6e-4 (found by a first-use trial)
-                        let (unit, ok) = qv.normalize();
-                        (mv, Some(if ok { unit } else { qv }))
+                        // a new trajectory starts from a unit attitude: past half a turn a
+                        // step (`cos(theta / 2) < 0`) scales an error of `|q0|` by up to
+                        // `1 - cos(theta / 2)`; rebuilt from its own output at every change of
+                        // `h`, a tumble at 5 rad a step grew `|q| - 1` 1.8x a step to 8.6e-4
+                        let (mv, qv) = checked_unit_state(&State::new(*m, q))?;
+                        (mv, Some(qv))
                     }
                     None => (checked_momentum(m)?, None),
                 };

@@ -213,6 +213,18 @@ pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>),
     Ok((m, unit_or_refused(&s.q)?))
 }
 
+/// [`checked_state`] with the attitude at unit length to the last bit: where an exact
+/// trajectory starts (`Orbit`, `Exact`). `checked_state` leaves `|q|` within `2^-10` as it
+/// is, and the exact evaluation's pull back to unit length is first order about `q0`, which
+/// turns an error of `|q0|` into one of the attitude (`|q0| = 1.0004`: 8e-4 rad; an
+/// f32-normalised `q0` widened to f64: 6.6e-8 rad, found in a first-use trial; past half a
+/// turn a step rebuilt from its own output grew `|q| - 1` 1.8x a step, found in another).
+pub(crate) fn checked_unit_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>), StepError> {
+    let (m, q) = checked_state(s)?;
+    // normalize returns q itself where it cannot (checked_state has refused those)
+    Ok((m, q.normalize().0))
+}
+
 /// A quaternion off unit length by more than `2^-10` as its direction: any finite nonzero
 /// `q`, `|q|^2` overflowing or underflowing included (as `Quaternion::normalize`; found in a
 /// first-use trial: `1e-200` was refused). Out of line: inlined into every step's

@@ -4,7 +4,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::exact::{finish, Orbit as Flow};
-use crate::integrator::{checked_state, State};
+use crate::integrator::{checked_unit_state, State};
 use crate::linalg::Quat;
 use crate::real::Real;
 
@@ -56,13 +56,7 @@ impl<T: Real> Orbit<T> {
     /// `NonFinite` for a non-finite entry or a zero quaternion, `Overflow` if `|m|` or
     /// `|m| / I` overflows.
     pub fn new(body: &Body<T>, s0: &State<T>) -> Result<Self, StepError> {
-        let (m, q0) = checked_state(s0)?;
-        // to unit length to the last bit, as `Exact`'s steps start their trajectories:
-        // checked_state leaves `|q|` within 2^-10 as it is, and the evaluation's pull back to
-        // unit length is first order about `q0`, which turned an error of `|q0|` into one of
-        // the attitude (`|q0| = 1.0004`: 8e-4 rad; an f32-normalised `q0` widened to f64:
-        // 6.6e-8 rad, found in a first-use trial)
-        let (q0, _) = q0.normalize();
+        let (m, q0) = checked_unit_state(s0)?;
         Ok(Self {
             body: *body,
             flow: Flow::new(body, m, true)?,

@@ -94,35 +94,34 @@ fn far_or_libm<T: Real>(x: T) -> (T, T) {
 #[inline(never)]
 fn far<T: Real>(x: T) -> Option<(T, T)> {
     let (r, k) = reduce_far(x)?;
-    let single = T::EPSILON.to_f64() > 1e-10;
-    let magic = c::<T>(if single {
+    by_quadrant(k, sin_cos_kernel(r), round_magic())
+}
+
+/// `1.5 2^(p-1)` (`p` the precision of `T`): `(v + magic) - magic` rounds `v` to the nearest
+/// integer for `|v| < 2^(p-2)` (no `round` in core for floats).
+#[inline(always)]
+pub(crate) fn round_magic<T: Real>() -> T {
+    c::<T>(if T::EPSILON.to_f64() > 1e-10 {
         12582912.0
     } else {
         6755399441055744.0
-    });
-    by_quadrant(k, sin_cos_kernel(r), magic)
+    })
 }
 
 /// `(sin x, cos x)` for `|x|` within the Cody–Waite limit; `None` only with excess precision.
 #[inline(always)]
 fn near<T: Real>(x: T) -> Option<(T, T)> {
     let single = T::EPSILON.to_f64() > 1e-10;
-    let (p1, p2, p3, magic) = if single {
-        (
-            1.57080078125,
-            -4.453584551811218e-6,
-            -8.705515752716053e-10,
-            12582912.0,
-        )
+    let (p1, p2, p3) = if single {
+        (1.57080078125, -4.453584551811218e-6, -8.705515752716053e-10)
     } else {
         (
             1.5707963267341256,
             6.077100506303966e-11,
             2.0222662487959506e-21,
-            6755399441055744.0,
         )
     };
-    let magic = c::<T>(magic);
+    let magic = round_magic::<T>();
     // round to nearest by the magic constant (no `round` in core for floats)
     let k = (x * c::<T>(core::f64::consts::FRAC_2_PI) + magic) - magic;
     let r = ((x - k * c::<T>(p1)) - k * c::<T>(p2)) - k * c::<T>(p3);

@@ -31,6 +31,7 @@
 //! f64 against libm.
 
 use crate::real::{c, Real};
+use crate::sincos::round_magic;
 
 /// `(r, k)`: `r = x - k pi/2` with `|r| <= pi/4` (plus rounding) and `k` an integer in `T`,
 /// for `|x| < `[`far_limit`]; `None` beyond (or for a non-finite `x`).
@@ -42,7 +43,7 @@ pub(crate) fn reduce_far<T: Real>(x: T) -> Option<(T, T)> {
     let single = T::EPSILON.to_f64() > 1e-10;
     // converted to T here, literal by literal (a table of f64 converted inside the loop was
     // converted at run time at opt-level `s`, software double on the M4F, found in review)
-    let (parts, b_scale, magic) = if single {
+    let (parts, b_scale) = if single {
         (
             [
                 c::<T>(1.57080078125),
@@ -52,7 +53,6 @@ pub(crate) fn reduce_far<T: Real>(x: T) -> Option<(T, T)> {
                 c::<T>(5.721188916458728e-18),
             ],
             4096.0,
-            12582912.0,
         )
     } else {
         (
@@ -64,10 +64,9 @@ pub(crate) fn reduce_far<T: Real>(x: T) -> Option<(T, T)> {
                 c::<T>(-1.4973849048591698e-33),
             ],
             67108864.0,
-            6755399441055744.0,
         )
     };
-    let magic = c::<T>(magic);
+    let magic = round_magic::<T>();
     let k = (x * c::<T>(core::f64::consts::FRAC_2_PI) + magic) - magic;
     let (r, adjust) = remainder(x, k, &parts, c::<T>(b_scale), magic);
     Some((r, k + adjust))
