@@ -427,9 +427,9 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
     ///
     /// Measured (`rigid3-lab forced-work`, `PreMv` order 6 drift, about 1060 counted operations
     /// a step on the heavy top): at `1e-4` on the README's heavy top 1.4x fewer operations than
-    /// `SRKN_6^b` and 2 % more than RK4 (a tie at the sweep's 1.33x step spacing), at `1e-5`
-    /// and `1e-6` 0.98x and 0.96x RK4's, the cheapest rigid3 method from `1e-4` to `1e-6` in
-    /// counted operations. Host time differs: RK4's operations are cheap multiply-adds, so on
+    /// `SRKN_6^b`, and 4 % and 0.3 % more than RK4 at `1e-4` and `1e-5` (ties at the sweep's
+    /// 1.33x step spacing; interpolated to the level, 2 % and 1 % fewer), the cheapest rigid3
+    /// method there in counted operations. Host time differs: RK4's operations are cheap multiply-adds, so on
     /// the host RK4 is faster at these errors (the README's figure 9, host-time panel).
     ///
     /// # Errors

@@ -34,7 +34,7 @@
 //! `half(h/2) drift(h) half(h/2)` is symmetric and of order 2; every increment is of the
 //! size of the motion, so the rounding is too. It does not keep `|m|^2` and `R(q) m` exactly
 //! (each part keeps only one of the pair `|n|^2`, `n . h_r`): on that cubesat at 1 kHz, errors
-//! of 1.4e-11 and 1.7e-8 that do not grow over `10^6` steps, and the energy to 9e-12. The f64
+//! of 1.4e-11 and 1.7e-8 that do not grow over `10^6` steps, and the energy to 6.6e-11. The f64
 //! step does not hold them as it does after the turns while the wheels are constant: the
 //! holds move the state off the energy, which then drifted (5e-8 after `10^6` steps,
 //! growing). After a change of the wheels, which the energy does not survive, it holds

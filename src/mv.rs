@@ -229,7 +229,7 @@ fn dropped_by_sum<T: Real>(m: Vec3<T>, added: Vec3<T>, next: Vec3<T>) -> Vec3<T>
 /// `m + increment` and `q + turn` dropped (Fast2Sum: the error of a sum is exact) and add it
 /// to the next step's increments while the caller leaves the state alone, on trajectories
 /// with `h |Omega|` below `1e-3` (above, rounding is unbiased, carrying it measured worse,
-/// and the steps are the plain ones): 1.4e-7 rad and
+/// and the steps are the plain ones): 1.0e-7 rad and
 /// 2.6e-8 there, 1.4e-5 rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
 /// tests/mv.rs `f32_slow_turns_keep_their_phase`, against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
 /// `R(q) m` in f32: taken at every hold they drove the phase about the spatial momentum by
@@ -820,17 +820,30 @@ impl<T: Real> Mv<T> {
     /// nearer to `-4 ((J b) x b) . dm / (h |dm|^2)`, the value the difference of the two DMV
     /// equations gives (`dm = m_k+1 - m_k`). With `dm = 0` (momentum on a principal axis,
     /// where `(J v) x v = 0`) the turn is `asin(h Omega) <= 90` degrees: the plus sign.
+    ///
+    /// `J` and `dm` enter divided by their largest entries: `|dm|^2` itself overflows for
+    /// `|m|` beyond `sqrt(T::MAX)` (f32: 1.8e19), and an infinite denominator read as an
+    /// estimate of zero took the minus sign, a turn 0.12 rad off returned `Ok` (found by a
+    /// first-use trial); below `sqrt(MIN_POSITIVE)` it underflowed to zero and took the plus
+    /// sign whatever the turn.
     #[cold]
     #[inline(never)]
     fn far_branch(&self, b: Vec3<T>, root: T, dm: Vec3<T>) -> T {
         let j = self.body.mass_matrix_vec();
-        let jb = j.mul_elem(b);
-        let dm2 = dm.norm2();
-        let den = self.h * dm2;
-        if !(den.abs() > T::ZERO) {
+        let (sj, sd) = (j.max_abs(), dm.max_abs());
+        if !(sd > T::ZERO && sj > T::ZERO && sd <= T::MAX && sj <= T::MAX) {
             return root;
         }
-        let est = -c::<T>(4.0) * jb.cross(b).dot(dm) / den;
+        // componentwise divisions (cold path): a reciprocal of a subnormal overflows
+        let jb = Vec3::new(j.x / sj * b.x, j.y / sj * b.y, j.z / sj * b.z);
+        let u = Vec3::new(dm.x / sd, dm.y / sd, dm.z / sd);
+        // est = -4 ((J b) x b) . dm / (h |dm|^2) = k sj / (h sd), |u|^2 in [1, 3]
+        let k = -c::<T>(4.0) * jb.cross(b).dot(u) / u.norm2();
+        let est = if k == T::ZERO {
+            T::ZERO
+        } else {
+            k * (sj / (self.h * sd))
+        };
         let plus = (T::ONE + root) * c::<T>(0.5);
         let minus = (T::ONE - root) * c::<T>(0.5);
         if (est - minus).abs() < (est - plus).abs() {
@@ -1141,6 +1154,8 @@ impl<T: Real> Mv<T> {
             ..Track::zero()
         };
         t.set_mass_matrix(j);
+        // set once per trajectory (a tolerance: a later body within 2x of this one may keep
+        // it, and set_mass_matrix, on PreMv's path after every outside change, stays as it was)
         let k = t.coefficients(m);
         if !exists(k.big_a, k.big_b, sq(t.s3)) {
             return Err(StepError::StepTooLarge);
@@ -1167,8 +1182,15 @@ impl<T: Real> Mv<T> {
     fn solve_exactly(mut t: Track<T>, k: &Coefficients<T>) -> Result<Track<T>, StepError> {
         let s0 = t.s0;
         let s1 = quartic_largest_root(k.big_a, k.big_b, t.s3).ok_or(StepError::StepTooLarge)?;
-        // polish delta on the cancellation-free g: s1 - s0 has only absolute accuracy
+        // polish delta on the cancellation-free g: s1 - s0 has only absolute accuracy.
+        // Guarded Newton first (it runs to round-off where the two largest roots are close,
+        // [`Track::settled`]), then, where its guards refuse the start, at most four steps
+        // that must each reduce |g|
         let mut delta = s1 - s0;
+        t.delta = delta;
+        if t.newton(k.invariants()) {
+            return Ok(t);
+        }
         let (mut g, mut dg) = t.g(delta, k.invariants());
         let mut it = 0;
         while it < 4 && dg > T::ZERO && g != T::ZERO {
@@ -1840,17 +1862,44 @@ impl<T: Real> Track<T> {
                 // but not of delta = O(h^2); one chord step with this derivative (no
                 // division) takes delta to round-off too
                 let (g, _) = self.g_only(delta, k);
-                delta -= g * inv_dg;
+                let chord = g * inv_dg;
+                delta -= chord;
                 if !delta.is_finite() {
                     return false;
                 }
-                self.set_delta(delta);
-                self.inv_dg = inv_dg;
-                return true;
+                if Self::settled(chord, step, delta) {
+                    self.set_delta(delta);
+                    self.inv_dg = inv_dg;
+                    return true;
+                }
             }
             it += 1;
         }
         false
+    }
+
+    /// Whether the chord step `chord` after a Newton step `step` (to `delta`) left `delta` at
+    /// round-off. With `K = g'' / (2 g')`, the Newton step leaves an error of about
+    /// `K step^2`, which the chord step (its size) removes up to a factor `2 K |step|`: what
+    /// is left is about `2 chord^2 / |step|`, kept when below `16 eps |delta|` (rounding
+    /// makes `chord` itself a few `eps |delta|`: a stricter test took Newton steps that
+    /// changed nothing).
+    ///
+    /// On most bodies `K` is about `1 / s1` and the first Newton step below `newton_tol`
+    /// passes: three products a solve (the lab's counted operations of the forced scenes grew
+    /// 0.3-1 %; kept as a per-trajectory tolerance instead, the larger tracking data cost the
+    /// M4F's filter tick, which copies an integrator, 52 instructions). On a needle
+    /// turned by a step with `h |m|` well above `sqrt(J_min J_max)` the quartic's two largest
+    /// roots are close (`J = (1, 5e-8, 5e-8)` at `h |m| = 5e-3`: `delta = -1.191e-5` and
+    /// `-1.211e-5`), `K` is the inverse of their separation, and stopping after the first
+    /// chord step (as before) left `delta` 5e-8 off relative, the step `2e-7` off the sphere
+    /// and refused (`Degenerate`; found by a first-use trial: half the starts on
+    /// `I = (1e-7, 1, 1)`, 54 % of changes of `h` by 5-95 % on `(1e-6, 1, 1)`). There Newton
+    /// goes on, two or three steps more.
+    #[inline(always)]
+    fn settled(chord: T, step: T, delta: T) -> bool {
+        // 2 chord^2 / |step| <= 16 eps |delta|
+        sq(chord) <= c::<T>(8.0 * T::EPSILON.to_f64()) * (delta * step).abs()
     }
 
     /// After an outside change of `m` or `h`: a chord step of size `correction` from the
