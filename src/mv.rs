@@ -207,8 +207,9 @@ fn dropped_by_sum<T: Real>(m: Vec3<T>, added: Vec3<T>, next: Vec3<T>) -> Vec3<T>
 /// free-running momentum step on average (one division: the rational map of
 /// crate::mv_frozen; the invariants held every 8th step) and 152–163 with attitude (the
 /// turn's quaternion is read off the momentum pair, by a series at small turns, else with two
-/// square roots; the attitude is renormalised and held every 8th step), and about 170–210 and
-/// 240–270 on a step after an outside change (the 3x3 solve; talk's case, `h` = 0.01–0.1); no
+/// square roots; the attitude is renormalised and held every 8th step), and 250–300 with
+/// attitude on a step after an outside change (the 3x3 solve; talk's case, `h` = 0.01–0.1,
+/// `rigid3-lab flops`); no
 /// `sqrt` in the momentum step, no trigonometry, no eigenvectors. `s1` is solved when the integrator is built or reset,
 /// and re-solved when the caller changes `m` (a filter's correction, a torque kick) or `h` (a
 /// jittering clock): by guarded Newton steps from the tracked value (one or two divisions,

@@ -84,6 +84,43 @@ pub fn step_cost(method: &'static str, h: f64) -> Option<StepCost> {
     })
 }
 
+/// The methods whose steps the real loop's regimes are counted for ([`changed_cost`]).
+pub const CHANGED: [&str; 3] = ["mv", "pre-mv4", "pre-mv10"];
+
+/// Counted operations per step with attitude when the caller changes `h` (a jittering clock,
+/// +-5 %) or `m` (a filter's correction, relative 1e-4, sign alternating) before every step:
+/// `[jitter, corrected]`, averaged over [`STEPS`] steps; `None` if a step is refused. The
+/// changes themselves are f64 arithmetic on the raw values, which the count does not see
+/// (`rigid3-lab loop-cost` times the same regimes on the host).
+pub fn changed_cost(method: &'static str, h: f64) -> Option<[Counts; 2]> {
+    let body = Body::<Counted>::from_mass_matrix(TALK_J.map(Counted)).ok()?;
+    let mut out = [Counts::default(); 2];
+    for (regime, slot) in out.iter_mut().enumerate() {
+        let mut a = make(method, body, Counted(h))?;
+        let mut s = State::new(TALK_M0.map(Counted), [1.0, 0.0, 0.0, 0.0].map(Counted));
+        a.step_state(&mut s).ok()?;
+        a.step_state(&mut s).ok()?;
+        // the changes are f64 arithmetic on the raw values: not counted
+        let (r, c) = count(|| {
+            for n in 0..STEPS {
+                if regime == 0 {
+                    // a fixed sequence in [-1, 1]
+                    let u = ((n * 7919) % 13) as f64 / 6.0 - 1.0;
+                    a.set_step_size(Counted(h * (1.0 + 0.05 * u)));
+                } else {
+                    let f = if n % 2 == 0 { 1.0 + 1e-4 } else { 1.0 - 1e-4 };
+                    s.m = s.m.map(|x| Counted(x.0 * f));
+                }
+                a.step_state(&mut s)?;
+            }
+            Ok::<(), rigid3::StepError>(())
+        });
+        r.ok()?;
+        *slot = per_step(c, STEPS);
+    }
+    Some(out)
+}
+
 /// Costs of every countable method at step `h`.
 pub fn all(h: f64) -> Vec<StepCost> {
     METHODS.iter().filter_map(|m| step_cost(m, h)).collect()
@@ -117,6 +154,19 @@ pub fn print_table(h: f64) {
             c.first.sqrt,
             c.first.trans
         );
+    }
+    println!("After an outside change before every step, with q (the real loop's regimes):");
+    println!("{:<17} {:>10} {:>10}", "method", "jitter", "corrected");
+    for method in CHANGED {
+        match changed_cost(method, h) {
+            Some([jitter, corrected]) => println!(
+                "{:<17} {:>10} {:>10}",
+                method,
+                jitter.flops(),
+                corrected.flops()
+            ),
+            None => println!("{method:<17} refused at this step size"),
+        }
     }
 }
 
