@@ -33,7 +33,12 @@ impl<T: Real> Body<T> {
     ///
     /// A `J_i` within `4 eps` of the largest moment of zero is set to exactly zero (a planar
     /// body), so that `I = (0.1, 0.2, 0.3)` is the flat plate it means despite binary
-    /// rounding.
+    /// rounding. A needle whose smallest moment is below about `8 eps` of the largest (in f32
+    /// from about `1e-6`: `I = (1e-6, 1, 1)`) has both small entries within that and set to
+    /// zero, a zero moment to DMV, which has no step for it: [`crate::Mv`] and the methods
+    /// built on it refuse every step (`StepTooLarge`, whatever `h`: sub-stepping does not
+    /// help; `Mv::max_step` is zero), while `Rk4`, `Midpoint` and the splittings, which use
+    /// the moments, step it. Use f64 for such needles.
     ///
     /// # Errors
     ///

@@ -421,6 +421,53 @@ fn needles_step_where_the_quartics_largest_roots_are_close() {
     assert!(dist(m, fresh) <= 1e-10 * norm(m), "{m:?} {fresh:?}");
 }
 
+/// An f32 needle whose smallest moment is below the precision of the largest
+/// (`I = (1e-6, 1, 1)`: `Body` sets both small mass-matrix entries, within `4 eps I_max`, to
+/// zero) is a zero moment to DMV: `Mv` refuses every step, state untouched, and `max_step`
+/// says zero, as `Body::from_inertia`'s docs say (a first-use trial sub-stepped on the
+/// refusal and never got through; a `Degenerate` there instead turned `PreMv`'s refusals of
+/// too large steps, whose modified bodies degenerate the same way, into `Degenerate` too, so
+/// the docs say it). The moments themselves are kept: `Rk4` steps the body, against the f64
+/// `Rk4` of the same inputs.
+#[test]
+fn an_f32_needle_below_the_precision_is_no_body_for_dmv() {
+    let body = Body::<f32>::from_inertia([1e-6, 1.0, 1.0]).unwrap();
+    let j = body.mass_matrix();
+    assert_eq!(j.iter().filter(|&&x| x == 0.0).count(), 2, "{j:?}");
+    let start = State::new([1e-7f32, 0.6, -0.8], [1.0, 0.0, 0.0, 0.0]);
+    assert_eq!(Mv::max_step(&body, &start.m), 0.0);
+    for h in [1e-7f32, 1e-3, 0.0167, 0.2] {
+        let mut s = start;
+        assert_eq!(
+            Mv::new(body, h).step_state(&mut s),
+            Err(StepError::StepTooLarge),
+            "h {h}"
+        );
+        assert_eq!(s, start);
+        let mut m = start.m;
+        assert_eq!(
+            Mv::new(body, h).step(&mut m),
+            Err(StepError::StepTooLarge),
+            "h {h}"
+        );
+    }
+    let mut s = start;
+    let mut rk = rigid3::Rk4::new(body, 1e-3f32);
+    let b64 = Body::<f64>::from_inertia([1e-6, 1.0, 1.0]).unwrap();
+    let mut s64 = State::new(start.m.map(f64::from), [1.0, 0.0, 0.0, 0.0]);
+    let mut rk64 = rigid3::Rk4::new(b64, 1e-3);
+    for _ in 0..100 {
+        rk.step_state(&mut s).unwrap();
+        rk64.step_state(&mut s64).unwrap();
+    }
+    assert!(
+        dist(s.m.map(f64::from), s64.m) < 1e-5,
+        "{:?} {:?}",
+        s.m,
+        s64.m
+    );
+}
+
 #[test]
 fn large_changes_of_h_keep_the_trajectorys_invariants() {
     let body = talk_body();
