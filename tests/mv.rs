@@ -349,19 +349,17 @@ fn needles_left_alone_hold_their_invariants() {
     }
 }
 
-/// A step size that changes by more than 2x (past what the tracked root survives, so it is
-/// re-solved) while the caller leaves the state alone: the trajectory goes on, so `|m|^2`,
-/// the energy and `R(q) m` stay at round-off (found in review: re-taking the invariants from
-/// each re-solved step's input let them drift, 4.4e-13 after 1e5 steps, 4.8e-12 after 1e6;
-/// `R(q) m` 2.4e-12).
 /// Needles turned by steps with `h |m|` well above `sqrt(J_min J_max)`, where the quartic's
 /// two largest roots are close (`J = (1, 5e-8, 5e-8)`, `h |m| = 5e-3`: 1.7 % of `delta`
 /// apart). Newton stopped at an absolute tolerance there and left `delta` 5e-8 off relative:
-/// the step came out 1e-6 off the sphere and was refused (`Degenerate`) from half the
+/// the step came out up to 1e-6 off the sphere and was refused (`Degenerate`) from half the
 /// starts at `I_min / I_max = 1e-7` (every one at `1e-8`), and after changes of `h` by
 /// 5-95 % on `1e-6` (found by a first-use trial). Oracles: `Exact` (elliptic functions),
 /// `|m|^2` and, on these symmetric needles, the axial momentum `m_1` (both kept by the
-/// map), and the helper's change of `h` against a fresh `Mv` from the same state.
+/// map), and the trial's change of `h` against a fresh `Mv` from the same state. At `1e-8`
+/// and `1e-9` the solved step's conditioning (`eps J_max / J_min`, 4e-8 and 4e-7) leaves
+/// `m_1`, which is `0.3 eps |m|` there, without a correct digit: those steps are checked for
+/// being taken and for `|m|` alone.
 #[test]
 fn needles_step_where_the_quartics_largest_roots_are_close() {
     let mut rng = Rng::new(0x0dd_5eed);
@@ -397,9 +395,12 @@ fn needles_step_where_the_quartics_largest_roots_are_close() {
         // each solved step is accurate to about eps J_max / J_min (Mv's docs), and the
         // error in m_1 moves the rod's fast spin m_1 / I_1: against Exact only down to 1e-7
         // (the method's own error, (h |Omega|)^2 |Omega| t / 12, is about 1e-5)
-        assert!(worst[0] <= 1e-9 && worst[1] <= 2e-9, "{eps:e}: {worst:?}");
+        assert!(
+            worst[0] <= 8.0 * f64::EPSILON * 2.0 / eps,
+            "{eps:e}: {worst:?}"
+        );
         if eps >= 1e-7 {
-            assert!(worst[2] <= 1e-4, "{eps:e}: {worst:?}");
+            assert!(worst[1] <= 1e-10 && worst[2] <= 1e-4, "{eps:e}: {worst:?}");
         }
     }
 
@@ -468,6 +469,11 @@ fn an_f32_needle_below_the_precision_is_no_body_for_dmv() {
     );
 }
 
+/// A step size that changes by more than 2x (past what the tracked root survives, so it is
+/// re-solved) while the caller leaves the state alone: the trajectory goes on, so `|m|^2`,
+/// the energy and `R(q) m` stay at round-off (found in review: re-taking the invariants from
+/// each re-solved step's input let them drift, 4.4e-13 after 1e5 steps, 4.8e-12 after 1e6;
+/// `R(q) m` 2.4e-12).
 #[test]
 fn large_changes_of_h_keep_the_trajectorys_invariants() {
     let body = talk_body();
@@ -707,6 +713,92 @@ fn large_turns_take_their_branch_at_every_scale() {
         "worst attitude against the scale-1 f64 step: f32 {:.2e}, f64 {:.2e}",
         worst[0], worst[1]
     );
+}
+
+/// The turn of a sphere, or of a body whose momentum is on a principal axis, is
+/// `asin(h |Omega|)` about `m` (from `X - X^T = h hat(m)` on a sphere, and likewise in the
+/// plane of the axis), at most 90 degrees: the plus sign of `p0^2 = (1 +- root) / 2`. There
+/// `(J b) x b = 0` and the step's increment is rounding, and the sign's estimate read that
+/// noise as the minus sign: a turn of `pi - asin(h |Omega|)`, 1 rad off, `Ok`, on 997 of 1000
+/// spheres at `h |Omega|` in (0.87, 1) (found in review). Oracle: the analytic turn; near the
+/// axis (1e-12 off in f64, 1e-5 in f32) the turn is within that of it.
+#[test]
+fn large_turns_on_an_axis_or_of_a_sphere_are_asin_h_omega() {
+    fn turn_f64(j: [f64; 3], m: [f64; 3], h: f64) -> Option<f64> {
+        let body = Body::<f64>::from_mass_matrix(j).unwrap();
+        if h >= Mv::max_step(&body, &m) {
+            return None;
+        }
+        let mut s = State::new(m, [1.0, 0.0, 0.0, 0.0]);
+        Mv::new(body, h).step_state(&mut s).ok()?;
+        Some(2.0 * s.q[0].abs().min(1.0).acos())
+    }
+    fn turn_f32(j: [f64; 3], m: [f64; 3], h: f64) -> Option<f64> {
+        let body = Body::<f32>::from_mass_matrix(j.map(|x| x as f32)).unwrap();
+        let m = m.map(|x| x as f32);
+        if h as f32 >= Mv::max_step(&body, &m) {
+            return None;
+        }
+        let mut s = State::new(m, [1.0f32, 0.0, 0.0, 0.0]);
+        Mv::new(body, h as f32).step_state(&mut s).ok()?;
+        Some(2.0 * f64::from(s.q[0]).abs().min(1.0).acos())
+    }
+    let mut rng = Rng::new(0xa515);
+    let (mut worst, mut taken) = ([0.0f64; 2], 0);
+    for n in 0..3000 {
+        let x = rng.range(0.87, 0.999);
+        let r = rng.range(0.1, 3.0);
+        let sign = if rng.range(-1.0, 1.0) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        // a sphere in a random direction, or a triaxial body with m on an axis, nudged
+        let (j, m, inertia) = if n % 2 == 0 {
+            let d = rng.direction();
+            ([1.0, 1.0, 1.0], d.map(|c| r * c), 2.0)
+        } else {
+            let j = [1.0, 2.0, 3.0];
+            let axis = n % 3;
+            let mut m = [0.0; 3];
+            m[axis] = sign * r;
+            let inertia = [j[1] + j[2], j[0] + j[2], j[0] + j[1]][axis];
+            (j, m, inertia)
+        };
+        let h = x * inertia / r;
+        let nudge = |m: [f64; 3], e: f64| {
+            let d = [1.0, -0.5, 0.25];
+            [
+                m[0] + e * r * d[0],
+                m[1] + e * r * d[1],
+                m[2] + e * r * d[2],
+            ]
+        };
+        let exact = x.asin();
+        for (k, t) in [
+            turn_f64(j, m, h).map(|t| (0, t, 1e-12)),
+            turn_f64(j, nudge(m, 1e-12), h).map(|t| (0, t, 1e-9)),
+            turn_f32(j, m, h).map(|t| (1, t, 1e-4)),
+            turn_f32(j, nudge(m, 1e-5), h).map(|t| (1, t, 1e-2)),
+        ]
+        .into_iter()
+        .flatten()
+        .map(|(k, t, tol)| (k, (t, tol)))
+        {
+            let (t, tol) = t;
+            taken += 1;
+            worst[k] = worst[k].max((t - exact).abs());
+            assert!(
+                (t - exact).abs() < tol,
+                "J {j:?} m {m:?} h {h}: turn {t}, asin {exact}"
+            );
+        }
+    }
+    println!(
+        "{taken} large turns: worst |turn - asin(h Omega)| f64 {:.1e}, f32 {:.1e}",
+        worst[0], worst[1]
+    );
+    assert!(taken > 6000, "{taken}");
 }
 
 #[test]
