@@ -1912,8 +1912,9 @@ impl<T: Real> Track<T> {
     /// 0.3-1 %; kept as a per-trajectory tolerance instead, the larger tracking data cost the
     /// M4F's filter tick, which copies an integrator, 52 instructions). On a needle
     /// turned by a step with `h |m|` well above `sqrt(J_min J_max)` the quartic's two largest
-    /// roots are close (`J = (1, 5e-8, 5e-8)` at `h |m| = 5e-3`: `delta = -1.191e-5` and
-    /// `-1.211e-5`), `K` is the inverse of their separation, and stopping after the first
+    /// roots are close (`J = (1, 5e-8, 5e-8)` at `h |m| = 5e-3`, from the trial's start
+    /// `m = (1.2e-9, 0.024, 0.299)`: `delta = -1.191e-5` and `-1.211e-5`; the values move with
+    /// the momentum's direction), `K` is the inverse of their separation, and stopping after the first
     /// chord step (as before) left `delta` 5e-8 off relative, the step `2e-7` off the sphere
     /// and refused (`Degenerate`; found by a first-use trial: half the starts on
     /// `I = (1e-7, 1, 1)`, 54 % of changes of `h` by 5-95 % on `(1e-6, 1, 1)`). There Newton
