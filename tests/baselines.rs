@@ -239,6 +239,8 @@ fn no_method_returns_nan_or_panics_on_bad_input() {
         [1e-200, 0.0, 0.0, 0.0],
     ];
     let mut tried = 0;
+    let mut outcomes = std::collections::BTreeMap::new();
+    let mut momentum_only = std::collections::BTreeMap::new();
     for b in bodies {
         for &h in &hs {
             let methods: Vec<(&str, Box<dyn Integrator<f64>>)> = vec![
@@ -256,7 +258,9 @@ fn no_method_returns_nan_or_panics_on_bad_input() {
             for (name, mut a) in methods {
                 for &m0 in &ms {
                     let mut m = m0;
-                    match a.step(&mut m) {
+                    let result = a.step(&mut m);
+                    *momentum_only.entry(format!("{result:?}")).or_insert(0usize) += 1;
+                    match result {
                         Ok(()) => assert!(
                             m.iter().all(|x| x.is_finite()),
                             "{name} h {h:e} m {m0:?} -> {m:?}"
@@ -270,7 +274,9 @@ fn no_method_returns_nan_or_panics_on_bad_input() {
                         tried += 1;
                         let mut s = State::new(m0, q0);
                         let before = s;
-                        match a.step_state(&mut s) {
+                        let result = a.step_state(&mut s);
+                        *outcomes.entry(format!("{result:?}")).or_insert(0usize) += 1;
+                        match result {
                             Ok(()) => assert!(
                                 s.m.iter().chain(s.q.iter()).all(|x| x.is_finite()),
                                 "{name} h {h:e} m {m0:?} q {q0:?} -> {s:?}"
@@ -286,6 +292,14 @@ fn no_method_returns_nan_or_panics_on_bad_input() {
             }
         }
     }
+    // the README quotes these tallies
+    let steps: usize = momentum_only.values().sum();
+    println!(
+        "{} calls on bad and extreme inputs, no panic, no NaN, every Err left the state",
+        tried + steps
+    );
+    println!("  {tried} step_state: {outcomes:?}");
+    println!("  {steps} step: {momentum_only:?}");
     assert!(tried > 10_000);
 }
 
