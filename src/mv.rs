@@ -241,14 +241,19 @@ fn dropped_by_sum<T: Real>(m: Vec3<T>, added: Vec3<T>, next: Vec3<T>) -> Vec3<T>
 /// Accuracy: agrees with the general Cardoso–Leite solver to about `1e-15` per step (f64);
 /// second order, time-reversible, Poisson; the phase error on the talk's case is `0.51 h^2`
 /// at `t = 10` (see `PreMv` to remove it). A solved step (the first, and every step after
-/// the caller changed `m` or `h` by much) is accurate to about `eps J_max / J_min` (its 3x3
-/// system's condition on a needle; `J` the mass matrix, [`Body::mass_matrix`]): negligible in
-/// f64, but in f32 a body of inertia `(0.001, 1, 1.0005)` starts `|m|^2` 5.8e-4 off, and a
-/// loop that re-takes the invariants every tick ([`Integrator::reset`], or a correction of
-/// `m` every step) adds such errors up (29 % in 3000 steps there, 2.4e-5 at `(0.01, 1, 1)`).
-/// Use f64 for needles with `J_min / J_max` below about `1e-2`: in f32 below that a step
-/// can be `Ok` with its attitude far off (1.2 rad at `3.4e-6`, where the f64 step is 2e-9
-/// off; found in review). On a rod (one moment `eps`
+/// the caller changed `m` or `h` by much) is accurate to about `eps I_max / I_min` (its 3x3
+/// system's condition on a needle, whose two small mass-matrix entries add up to `I_min`;
+/// [`Body::mass_matrix`]. One small entry alone costs nothing: on a near-planar body
+/// `(1, 1, 2 - 1e-4)`, `J_min / J_max = 5e-5`, f32 stays within 2.4e-5 rad of f64 after
+/// 5000 steps at `h |Omega|` up to 0.1, as on a compact body, where f32 RK4 is 2.1e-4 off):
+/// negligible in f64, but in f32 a body of inertia `(0.001, 1, 1.0005)` starts `|m|^2` 5.8e-4
+/// off, and a loop that re-takes the invariants every tick ([`Integrator::reset`], or a
+/// correction of `m` every step) adds such errors up (29 % in 3000 steps there, 2.4e-5 at
+/// `(0.01, 1, 1)`). Use f64 for needles with `I_min / I_max` below about `1e-2`: at `1e-2`
+/// f32 `Mv` already ends 2.6x as far from f64 as f32 RK4 does (4.0e-4 against 1.5e-4 rad
+/// after 5000 steps; tests/mv.rs `f32_accuracy_is_set_by_the_needle_not_by_a_small_mass_matrix_entry`),
+/// 3-7x at `1e-3`, and below that a step can be `Ok` with its attitude far off (1.2 rad at
+/// `3.4e-6`, where the f64 step is 2e-9 off; found in review). On a rod (one moment `eps`
 /// times the others) that error lands, in f64 too, on the momentum's component along the rod,
 /// whose rate `m_1 / I_1` the small moment magnifies: `I = (1e-7, 1, 1)`,
 /// `m0 = (3e-8, -0.6, 1.1)`, `h = 0.05` ends 2.2e-2 off the exact solution at `t = 10`,
