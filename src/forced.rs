@@ -60,7 +60,7 @@ use crate::error::StepError;
 use crate::forced_relative::{relative_wanted, RelativeStep, RotorRates};
 use crate::integrator::{
     carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
-    turn_in_space, Integrator, State,
+    homogeneous_scale, turn_in_space, Integrator, State,
 };
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, sq, Real};
@@ -170,13 +170,26 @@ const TURN_FIX_W: f64 = 1.0 - 1.25e-7;
 /// ended 144x the scene's sensitivity to one ulp from f64 (found in review).
 #[inline(always)]
 fn turn_norm_fix<T: Real>(m: Vec3<T>, dx: Vec3<T>, next: Vec3<T>) -> Vec3<T> {
-    let w = dx.mul_elem(m.add(m).add(dx));
+    let zero = Vec3::new(T::ZERO, T::ZERO, T::ZERO);
+    // in range by powers of two (exact; the ratio below is scale-free, and in range, the
+    // common case, nothing is scaled): unscaled, dx (2 m + dx) overflowed f32 past |m| about
+    // 1.5e20 at a 0.025 rad turn, and the infinite fix made the next step drop the whole
+    // carry, every step (found in review). Scaled by 1 / max |m_i| instead, the scaling's
+    // own rounding biased the fix (|m| 3x further off on the test). (Moved out of line, cold
+    // or not, this cost the M4F's forced steps 1-29 instructions more, though it never runs
+    // there: register allocation.)
+    let (u, d, n) = match homogeneous_scale(m) {
+        Some((up, _)) => (m.scale(up), dx.scale(up), next.scale(up)),
+        None => (m, dx, next),
+    };
+    let w = d.mul_elem(u.add(u).add(d));
     let defect = w.x + w.y + w.z;
-    let n2 = next.norm2();
-    if n2 > T::ZERO {
-        next.scale(-defect * c::<T>(0.5) / n2)
+    let n2 = n.norm2();
+    let fix = next.scale(-defect * c::<T>(0.5) / n2);
+    if n2 > T::ZERO && fix.is_finite() {
+        fix
     } else {
-        Vec3::new(T::ZERO, T::ZERO, T::ZERO)
+        zero
     }
 }
 

@@ -421,6 +421,10 @@ pub(crate) fn checked_momentum<T: Real>(m: &[T; 3]) -> Result<Vec3<T>, StepError
     }
 }
 
+/// `2^-40` and `2^40`: the range [`homogeneous_scale`] brings a momentum into.
+pub(crate) const HOMOGENEOUS_LO: f64 = 9.094947017729282e-13;
+pub(crate) const HOMOGENEOUS_HI: f64 = 1099511627776.0;
+
 /// Powers of two `(up, down = 1 / up)` that bring `max |v|` into `[2^-40, 2^40]`, for the
 /// integrators whose step is homogeneous in `(m, h)` (Euler's equations are quadratic in `m`:
 /// `m -> m up`, `h -> h down` is the same motion, and scaling by a power of two rounds
@@ -433,7 +437,7 @@ pub(crate) fn checked_momentum<T: Real>(m: &[T; 3]) -> Result<Vec3<T>, StepError
 /// subnormal `max |m|`, found in review; a first fix scaled that check alone).
 pub(crate) fn homogeneous_scale<T: Real>(v: Vec3<T>) -> Option<(T, T)> {
     let big = v.max_abs();
-    let (lo, hi) = (c::<T>(9.094947017729282e-13), c::<T>(1099511627776.0));
+    let (lo, hi) = (c::<T>(HOMOGENEOUS_LO), c::<T>(HOMOGENEOUS_HI));
     if (big >= lo && big <= hi) || !(big > T::ZERO) || !big.is_finite() {
         return None;
     }
