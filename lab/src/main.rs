@@ -32,7 +32,8 @@ enum Command {
             long,
             required = true,
             value_delimiter = ',',
-            allow_hyphen_values = true
+            allow_hyphen_values = true,
+            action = clap::ArgAction::Set
         )]
         inertia: Vec<f64>,
         /// Initial body momentum x,y,z.
@@ -40,12 +41,13 @@ enum Command {
             long,
             required = true,
             value_delimiter = ',',
-            allow_hyphen_values = true
+            allow_hyphen_values = true,
+            action = clap::ArgAction::Set
         )]
         m0: Vec<f64>,
         /// Initial attitude w,x,y,z (body to space; normalised). Without it a free run is
         /// momentum-only; a forced run always carries the attitude (the identity by default).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         q0: Option<Vec<f64>>,
         /// Step size (nonzero; negative runs backwards).
         #[arg(long, allow_hyphen_values = true)]
@@ -60,25 +62,25 @@ enum Command {
         #[arg(long)]
         json: bool,
         /// Rotor momentum hx,hy,hz (body frame, constant): a gyrostat.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         rotor: Option<Vec<f64>>,
         /// Heavy top: M g (torque MG (Gamma x chi), Gamma = R(q)^T e_z); needs --com.
         #[arg(long, allow_hyphen_values = true)]
         gravity: Option<f64>,
         /// Heavy top: centre of mass cx,cy,cz in the body frame.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         com: Option<Vec<f64>>,
         /// Gravity gradient K,N: tau = 3K (r x I r), r = R(q)^T (cos N t, sin N t, 0).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         gravity_gradient: Option<Vec<f64>>,
         /// Body torque amplitudes A1,A2,A3: tau_i(t) = A_i cos(W_i t + P_i).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         body_torque: Option<Vec<f64>>,
         /// Body torque frequencies W1,W2,W3 (default 0: constant).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         torque_freq: Option<Vec<f64>>,
         /// Body torque phases P1,P2,P3 (default 0).
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         torque_phase: Option<Vec<f64>>,
     },
     /// List the methods.
@@ -268,7 +270,17 @@ fn main() -> ExitCode {
                 (false, false) => run_forced::<f64>(&method, inertia, m0, q0, h, steps, &spec),
             };
             match report {
-                Ok(r) => {
+                Ok(mut r) => {
+                    // a result whose invariants f64 cannot represent is not a measurement
+                    // (a run that overflowed its scale, or a huge one): said, and a failure,
+                    // not a `null` in the JSON with exit code 0 (found by an external check)
+                    let bad = r.non_finite_fields();
+                    if r.error.is_none() && !bad.is_empty() {
+                        r.error = Some(format!(
+                            "not finite in f64 at the end of the run: {}",
+                            bad.join(", ")
+                        ));
+                    }
                     if json {
                         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
                     } else {

@@ -57,8 +57,76 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
 }
 
+/// The larger of a running maximum and a new value, NaN if either is: `f64::max` drops a NaN,
+/// and an overflowed invariant's drift read 0 (found by an external check).
+fn worse(acc: f64, x: f64) -> f64 {
+    if x.is_nan() || x > acc {
+        x
+    } else {
+        acc
+    }
+}
+
+/// `1/2 m . I^-1 m` as `1/2 sum m_i (m_i / I_i)`: `m_i^2` alone overflowed where the energy
+/// does not (`m` and `I` of `1e200`).
+fn energy_of(inertia: [f64; 3], m: [f64; 3]) -> f64 {
+    0.5 * (m[0] * (m[0] / inertia[0]) + m[1] * (m[1] / inertia[1]) + m[2] * (m[2] / inertia[2]))
+}
+
+impl Report {
+    /// The names of the reported numbers that are not finite (empty for a sound report).
+    pub fn non_finite_fields(&self) -> Vec<&'static str> {
+        let mut bad = Vec::new();
+        let mut check = |name: &'static str, ok: bool| {
+            if !ok {
+                bad.push(name);
+            }
+        };
+        let fin = |x: &f64| x.is_finite();
+        check("m", self.m.iter().all(fin));
+        check("q", self.q.is_none_or(|q| q.iter().all(fin)));
+        check("energy", self.energy.is_finite());
+        check("casimir", self.casimir.is_finite());
+        check(
+            "spatial_momentum",
+            self.spatial_momentum.is_none_or(|p| p.iter().all(fin)),
+        );
+        check("casimir_drift", self.casimir_drift.is_finite());
+        check("energy_drift", self.energy_drift.is_finite());
+        check(
+            "spatial_momentum_drift",
+            self.spatial_momentum_drift.is_none_or(|x| x.is_finite()),
+        );
+        check(
+            "total_energy",
+            self.total_energy.is_none_or(|x| x.is_finite()),
+        );
+        check(
+            "total_energy_drift",
+            self.total_energy_drift.is_none_or(|x| x.is_finite()),
+        );
+        check(
+            "jacobi_integral",
+            self.jacobi_integral.is_none_or(|x| x.is_finite()),
+        );
+        check(
+            "jacobi_integral_drift",
+            self.jacobi_integral_drift.is_none_or(|x| x.is_finite()),
+        );
+        bad
+    }
+}
+
+/// `|a - b|`, in units of its largest component (squared, a spatial momentum of `1e200`
+/// overflowed).
 fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let big = d[0].abs().max(d[1].abs()).max(d[2].abs());
+    if !(big > 0.0 && big.is_finite()) {
+        return big;
+    }
+    let u = d.map(|x| x / big);
+    big * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt()
 }
 
 /// Takes `steps` steps from `s0` (with attitude if `with_attitude`), tracking the drift of
@@ -73,8 +141,7 @@ pub fn propagate<T: Real>(
 ) -> Report {
     let wide = |s: &State<T>| {
         let m = s.m.map(Real::to_f64);
-        let b = Body::<f64>::from_inertia(body.inertia().map(Real::to_f64)).ok();
-        let e = b.map(|b| b.energy(&m)).unwrap_or(f64::NAN);
+        let e = energy_of(body.inertia().map(Real::to_f64), m);
         let c = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
         let p = State::new(m, s.q.map(Real::to_f64)).spatial_momentum();
         (e, c, p)
@@ -97,10 +164,10 @@ pub fn propagate<T: Real>(
         }
         taken += 1;
         let (e, c, p) = wide(&s);
-        de = de.max(rel(e, e0));
-        dc = dc.max(rel(c, c0));
+        de = worse(de, rel(e, e0));
+        dc = worse(dc, rel(c, c0));
         if with_attitude {
-            dp = dp.max(dist(p, p0) / pn.max(f64::MIN_POSITIVE));
+            dp = worse(dp, dist(p, p0) / pn.max(f64::MIN_POSITIVE));
         }
     }
     let (e, c, p) = wide(&s);
@@ -164,15 +231,11 @@ pub fn propagate_forced<T: Real>(
     // are invariants only for a rotor without torque, where this is their drift)
     let wide = |s: &State<T>| {
         let st = State::new(s.m.map(Real::to_f64), s.q.map(Real::to_f64));
-        let b = Body::<f64>::from_inertia(inertia).ok();
-        (
-            b.map_or(f64::NAN, |b| b.casimir(&st.m)),
-            b.map_or(f64::NAN, |b| b.energy(&st.m)),
-            st.spatial_momentum(),
-        )
+        let c = st.m[0] * st.m[0] + st.m[1] * st.m[1] + st.m[2] * st.m[2];
+        (c, energy_of(inertia, st.m), st.spatial_momentum())
     };
     let (c0, en0, p0) = wide(&s0);
-    let p0n = (p0[0] * p0[0] + p0[1] * p0[1] + p0[2] * p0[2]).sqrt();
+    let p0n = dist(p0, [0.0; 3]);
     let (mut dc, mut de, mut dp) = (0.0f64, 0.0f64, 0.0f64);
     let mut s = s0;
     let mut taken = 0;
@@ -184,16 +247,15 @@ pub fn propagate_forced<T: Real>(
         }
         taken = k;
         if let (Some(e), Some(e0)) = (total(k, &s), e0) {
-            drift = drift.max(rel(e, e0));
+            drift = worse(drift, rel(e, e0));
         }
         if let (Some(j), Some(j0)) = (jacobi(k, &s), j0) {
-            j_drift = j_drift.max(rel(j, j0));
+            j_drift = worse(j_drift, rel(j, j0));
         }
         let (c, en, p) = wide(&s);
-        dc = dc.max(rel(c, c0));
-        de = de.max(rel(en, en0));
-        let d = ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
-        dp = dp.max(d / p0n.max(f64::MIN_POSITIVE));
+        dc = worse(dc, rel(c, c0));
+        de = worse(de, rel(en, en0));
+        dp = worse(dp, dist(p, p0) / p0n.max(f64::MIN_POSITIVE));
     }
     let tail = propagate(method, integrator, &body, s, 0, true);
     report.steps = taken;

@@ -540,3 +540,116 @@ fn a_closed_pipe_ends_the_run_quietly() {
     assert_eq!(out.status.code(), Some(141), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// A run whose invariants f64 cannot represent is a failure with the reason, not `null`s with
+/// exit code 0; and the energy that f64 can hold is reported where `m^2` alone overflows
+/// (found by an external check: a splitting step of `1e300` exited 0 with `"error": null`,
+/// and `m` and `I` of `1e200` gave `"energy": null` and a spatial drift of 0). Oracle: the
+/// energy of the unscaled run times `1e200` (the motion is the same).
+#[test]
+fn propagate_fails_where_the_invariants_overflow_and_scales_the_energy() {
+    let (ok, out) = lab(&[
+        "propagate",
+        "--method",
+        "splitting",
+        "--inertia",
+        "1,1.5,2",
+        "--m0",
+        "0.3,-0.6,1.1",
+        "--h",
+        "1e300",
+        "--t",
+        "1e300",
+        "--gravity",
+        "1",
+        "--com",
+        "0,0,1",
+        "--json",
+    ]);
+    assert!(!ok, "{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("json");
+    let error = v["error"].as_str().unwrap_or_default();
+    assert!(
+        error.contains("not finite") && error.contains("energy"),
+        "{out}"
+    );
+    let scaled = |s: &str| {
+        let (ok, out) = lab(&[
+            "propagate",
+            "--method",
+            "mv",
+            "--inertia",
+            &format!("1{s},1.5{s},2{s}"),
+            "--m0",
+            &format!("1{s},-2{s},1{s}"),
+            "--q0",
+            "1,0,0,0",
+            "--h",
+            "0.1",
+            "--t",
+            "1",
+            "--json",
+        ]);
+        (
+            ok,
+            serde_json::from_str::<serde_json::Value>(&out).expect("json"),
+            out,
+        )
+    };
+    let (ok1, one, out1) = scaled("");
+    assert!(ok1, "{out1}");
+    let (ok_big, big, out_big) = scaled("e200");
+    // |m|^2 is about 6e400: not representable, said so
+    assert!(!ok_big, "{out_big}");
+    assert!(
+        big["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("casimir"),
+        "{out_big}"
+    );
+    let (e1, e_big) = (
+        one["energy"].as_f64().unwrap(),
+        big["energy"].as_f64().unwrap(),
+    );
+    assert!((e_big / 1e200 / e1 - 1.0).abs() < 1e-14, "{e1} {e_big}");
+    let drift = big["spatial_momentum_drift"].as_f64().unwrap();
+    assert!(drift > 0.0 && drift < 1e-14, "{out_big}");
+}
+
+/// A list flag given twice is refused (it was concatenated: `--inertia 1 --inertia 1.5
+/// --inertia 2` ran as `1,1.5,2`, and `--rotor 1,1,1 --rotor 2,2,2` failed with a wrong
+/// reason; found by an external check).
+#[test]
+fn propagate_refuses_a_list_flag_given_twice() {
+    for (flag, a, b) in [
+        ("--inertia", "1", "1.5,2"),
+        ("--m0", "0.3,-0.6,1.1", "0.3,-0.6,1.1"),
+        ("--rotor", "1,1,1", "2,2,2"),
+        ("--com", "0", "0,1"),
+        ("--gravity-gradient", "1", "2"),
+    ] {
+        let mut args = vec![
+            "propagate",
+            "--method",
+            "mv",
+            "--inertia",
+            "1,1.5,2",
+            "--m0",
+            "0.3,-0.6,1.1",
+            "--h",
+            "0.1",
+            "--t",
+            "1",
+        ];
+        if flag == "--com" {
+            args.extend_from_slice(&["--gravity", "1"]);
+        }
+        args.extend_from_slice(&[flag, a, flag, b]);
+        let (ok, out) = lab(&args);
+        assert!(
+            !ok && out.contains("cannot be used multiple times"),
+            "{flag}: {out}"
+        );
+    }
+}
