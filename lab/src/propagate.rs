@@ -76,44 +76,29 @@ fn energy_of(inertia: [f64; 3], m: [f64; 3]) -> f64 {
 impl Report {
     /// The names of the reported numbers that are not finite (empty for a sound report).
     pub fn non_finite_fields(&self) -> Vec<&'static str> {
-        let mut bad = Vec::new();
-        let mut check = |name: &'static str, ok: bool| {
-            if !ok {
-                bad.push(name);
-            }
-        };
-        let fin = |x: &f64| x.is_finite();
-        check("m", self.m.iter().all(fin));
-        check("q", self.q.is_none_or(|q| q.iter().all(fin)));
-        check("energy", self.energy.is_finite());
-        check("casimir", self.casimir.is_finite());
-        check(
-            "spatial_momentum",
-            self.spatial_momentum.is_none_or(|p| p.iter().all(fin)),
-        );
-        check("casimir_drift", self.casimir_drift.is_finite());
-        check("energy_drift", self.energy_drift.is_finite());
-        check(
-            "spatial_momentum_drift",
-            self.spatial_momentum_drift.is_none_or(|x| x.is_finite()),
-        );
-        check(
-            "total_energy",
-            self.total_energy.is_none_or(|x| x.is_finite()),
-        );
-        check(
-            "total_energy_drift",
-            self.total_energy_drift.is_none_or(|x| x.is_finite()),
-        );
-        check(
-            "jacobi_integral",
-            self.jacobi_integral.is_none_or(|x| x.is_finite()),
-        );
-        check(
-            "jacobi_integral_drift",
-            self.jacobi_integral_drift.is_none_or(|x| x.is_finite()),
-        );
-        bad
+        let all = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let opt = |x: Option<f64>| x.is_none_or(f64::is_finite);
+        [
+            ("m", all(&self.m)),
+            ("q", self.q.is_none_or(|q| all(&q))),
+            ("energy", self.energy.is_finite()),
+            ("casimir", self.casimir.is_finite()),
+            (
+                "spatial_momentum",
+                self.spatial_momentum.is_none_or(|p| all(&p)),
+            ),
+            ("casimir_drift", self.casimir_drift.is_finite()),
+            ("energy_drift", self.energy_drift.is_finite()),
+            ("spatial_momentum_drift", opt(self.spatial_momentum_drift)),
+            ("total_energy", opt(self.total_energy)),
+            ("total_energy_drift", opt(self.total_energy_drift)),
+            ("jacobi_integral", opt(self.jacobi_integral)),
+            ("jacobi_integral_drift", opt(self.jacobi_integral_drift)),
+        ]
+        .into_iter()
+        .filter(|&(_, ok)| !ok)
+        .map(|(name, _)| name)
+        .collect()
     }
 }
 

@@ -25,6 +25,17 @@ const TALK: [&str; 6] = [
     "10",
 ];
 
+/// `propagate` with `mv` on a small body, before the step, the duration and the extras.
+const MV_BASE: [&str; 7] = [
+    "propagate",
+    "--method",
+    "mv",
+    "--inertia",
+    "1,1.5,2",
+    "--m0",
+    "0.3,-0.6,1.1",
+];
+
 fn propagate_json(method: &str, extra: &[&str]) -> serde_json::Value {
     let mut args = vec!["propagate", "--method", method, "--h", "0.1", "--json"];
     args.extend_from_slice(&TALK);
@@ -137,15 +148,7 @@ fn bad_input_is_reported() {
 /// flag; nothing runs.
 #[test]
 fn propagate_refuses_bad_numbers_naming_the_flag() {
-    let base = [
-        "propagate",
-        "--method",
-        "mv",
-        "--inertia",
-        "1,1.5,2",
-        "--m0",
-        "0.3,-0.6,1.1",
-    ];
+    let base = MV_BASE;
     for (extra, want) in [
         (&["--h", "0", "--t", "1"][..], "--h must be nonzero"),
         (&["--h", "0.1", "--t", "inf"], "--t must be finite"),
@@ -629,19 +632,8 @@ fn propagate_refuses_a_list_flag_given_twice() {
         ("--com", "0", "0,1"),
         ("--gravity-gradient", "1", "2"),
     ] {
-        let mut args = vec![
-            "propagate",
-            "--method",
-            "mv",
-            "--inertia",
-            "1,1.5,2",
-            "--m0",
-            "0.3,-0.6,1.1",
-            "--h",
-            "0.1",
-            "--t",
-            "1",
-        ];
+        let mut args = MV_BASE.to_vec();
+        args.extend_from_slice(&["--h", "0.1", "--t", "1"]);
         if flag == "--com" {
             args.extend_from_slice(&["--gravity", "1"]);
         }
