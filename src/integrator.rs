@@ -422,8 +422,8 @@ pub(crate) fn checked_momentum<T: Real>(m: &[T; 3]) -> Result<Vec3<T>, StepError
 }
 
 /// `2^-40` and `2^40`: the range [`homogeneous_scale`] brings a momentum into.
-pub(crate) const HOMOGENEOUS_LO: f64 = 9.094947017729282e-13;
-pub(crate) const HOMOGENEOUS_HI: f64 = 1099511627776.0;
+const HOMOGENEOUS_LO: f64 = 9.094947017729282e-13;
+const HOMOGENEOUS_HI: f64 = 1099511627776.0;
 
 /// Powers of two `(up, down = 1 / up)` that bring `max |v|` into `[2^-40, 2^40]`, for the
 /// integrators whose step is homogeneous in `(m, h)` (Euler's equations are quadratic in `m`:
