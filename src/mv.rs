@@ -490,14 +490,6 @@ fn energy_correction<T: Real>(k: Invariants<T>, t: &Track<T>, da: T, db: T) -> O
     }
 }
 
-/// Whether a carried rounding `lost` (a sum of residues below an ulp of the last result) may
-/// be added to a step from `m`: below `64 eps |m|`, as crate::forced's `carried_for` (a
-/// momentum the caller corrected by a little; not one it replaced by a much smaller one).
-#[inline(always)]
-fn carry_fits<T: Real>(lost: Vec3<T>, m: Vec3<T>) -> bool {
-    lost.norm2() <= c::<T>(4096.0) * sq(T::EPSILON) * m.norm2()
-}
-
 /// The fix that moves `m + inc` back onto the invariants `alpha`, `beta` of `m` (as
 /// [`Anchor::correction`] moves an input onto the anchored ones), with their change computed
 /// from the increment itself: `|m + inc|^2 - |m|^2 = sum inc_i (2 m_i + inc_i)` (and with
@@ -1039,16 +1031,49 @@ impl<T: Real> Mv<T> {
     }
 
     /// What the last plain step's attitude rounding dropped, to add to this step's turn
-    /// (always zero in f64), also after the caller changed `m` or `q`: it is below an ulp of
-    /// any unit `q`, so added to a corrected attitude it moves it by less than its rounding,
-    /// and dropped there a filter correcting every tick lost the slow turn's rounding with a
-    /// bias (4.2e-3 rad from f64 after 10^6 ticks at 8e-4 rad/s, found in review).
+    /// (always zero in f64), also after the caller changed `m` or corrected `q` by a little
+    /// ([`Mv::turned_by_little`]): dropped there, a filter correcting every tick lost the slow
+    /// turn's rounding with a bias (4.2e-3 rad from f64 after 10^6 ticks at 8e-4 rad/s, found
+    /// in review).
     #[inline(always)]
-    fn carried_turn(&self, _follows: (bool, bool)) -> Quat<T> {
-        if carries_rounding::<T>() {
+    fn carried_turn(&self, (ours, _): (bool, bool), q: Quat<T>) -> Quat<T> {
+        if carries_rounding::<T>() && (ours || self.turned_by_little(q)) {
             self.carry_q
         } else {
             Quat::from_array([T::ZERO; 4])
+        }
+    }
+
+    /// Whether `m`, not the momentum returned last, is that one corrected by a little (within
+    /// 1 % of `|m|`, so the carry, a few ulps of the last momentum at most, is a few of `m`'s):
+    /// a filter's correction, whose state the carried rounding still belongs to. Not a replacement: one `Mv` switched between two
+    /// trajectories every tick leaked each one's carry into the other (`|m|` of the smaller
+    /// drifted 6.6e-2 in `2 x 10^5` ticks), and a momentum replaced by one 120 times smaller
+    /// took up to 64 of its ulps (found in review of a first version that tested the carry's
+    /// size alone).
+    #[inline(always)]
+    fn corrected_by_little(&self, m: Vec3<T>) -> bool {
+        matches!(&self.anchor, Some(a) if m.sub(a.last).norm2() <= c::<T>(1e-4) * m.norm2())
+    }
+
+    /// Whether `q`, not the attitude returned last, is that one turned by a little (within
+    /// `1e-2` of it, about 0.02 rad): a filter's correction keeps the attitude's carry, a
+    /// replacement does not ([`Mv::corrected_by_little`]).
+    #[inline(always)]
+    fn turned_by_little(&self, q: Quat<T>) -> bool {
+        match &self.anchor {
+            Some(Anchor {
+                spatial: Some(sp), ..
+            }) => {
+                let d = Quat {
+                    w: q.w - sp.last_q.w,
+                    x: q.x - sp.last_q.x,
+                    y: q.y - sp.last_q.y,
+                    z: q.z - sp.last_q.z,
+                };
+                d.norm2() <= c::<T>(1e-4)
+            }
+            _ => false,
         }
     }
 
@@ -1101,7 +1126,7 @@ impl<T: Real> Mv<T> {
         };
         let next = step.next;
         let (p, _) = self.rotation_between(v, next, step.increment)?;
-        let lost = self.carried_turn(follows);
+        let lost = self.carried_turn(follows, q);
         let (held, lost) = self.turn_attitude(follows, q, next, p, lost, carries_rounding::<T>());
         write_state_stepped(s, next, held)?;
         self.keep_turn_carry(lost);
@@ -1332,6 +1357,8 @@ impl<T: Real> Mv<T> {
             }
         }
         self.frozen = None;
+        // taken before the anchor moves to `m`: whether the carry goes on (a small correction)
+        let carry_on = carries_rounding::<T>() && (follows || self.corrected_by_little(m));
         let (k, resynced) = self.system(m, follows && !self.recheck)?;
         if self.no_map {
             if let Some(t) = self.track.as_mut() {
@@ -1437,11 +1464,10 @@ impl<T: Real> Mv<T> {
             None => (increment, zero),
         };
         // a plain step adds what the last step's rounding dropped: from its own last result,
-        // and from a momentum the caller corrected by a little (a filter every tick: dropped
-        // there, the rounding of the slow motion was lost with a bias, |m|^2 5.4e-3 off after
-        // 10^6 ticks at 8e-4 rad/s, found in review), not where the caller replaced `m` by
-        // one the residue is not below an ulp of
-        let sum = if carries_rounding::<T>() && plain && (follows || carry_fits(self.carry_m, m)) {
+        // and from a momentum the caller corrected by a little ([`Mv::corrected_by_little`];
+        // dropped there, a filter every tick lost the slow motion's rounding with a bias,
+        // |m|^2 5.4e-3 off after 10^6 ticks at 8e-4 rad/s, found in review)
+        let sum = if carries_rounding::<T>() && plain && carry_on {
             applied.add(self.carry_m)
         } else {
             applied
@@ -2165,7 +2191,7 @@ impl<T: Real> Integrator<T> for Mv<T> {
         };
         let next = step.next;
         let (p, small) = self.rotation_between(v, next, step.increment)?;
-        let lost = self.carried_turn(follows);
+        let lost = self.carried_turn(follows, q);
         let (held, lost) = self.turn_attitude(follows, q, next, p, lost, carries_rounding::<T>());
         if small {
             // a finite unit q turned by a finite p within 1e-4 of one: finite (and a
