@@ -887,11 +887,12 @@ fn kdk_momentum<T: Real, D: Integrator<T>, F: Torque<T>>(
 /// `an_elongated_body_after_a_torque_steps_as_a_free_one`). A gyrostat without torque holds `|m|^2` and `R(q) m` in f64; in f32 it carries instead (holding as well rounded the
 /// state without carrying that rounding, which fought the carry: 339x the sensitivity after
 /// `10^6` steps, now 0.6x, `an_f32_gyrostat_follows_f64`; `|m|^2` and `R(q) m` within
-/// 3.5e-7 over `10^6` steps and 1.6-3.0e-6 over `10^7`, where the holds kept 3e-7). Where the wheels
-/// turn the body by more than 1e-3 rad a half step, each turn also hands the carry what moves
-/// `m` back onto `|m|` (a turn by the same rounded quaternion every step otherwise drifts
-/// `|m|` linearly: 1.2e-5 in `2.56 x 10^5` steps at `h |Omega| = 0.05` with a 5 N m s wheel,
-/// now 3.9e-8; `an_f32_gyrostat_with_a_fast_wheel_keeps_its_casimir`). Where
+/// 3.5e-7 over `10^6` steps and 1.6-3.0e-6 over `10^7`, where the holds kept 3e-7). Where
+/// the wheels turn the body by more than 1e-3 rad a half step, each turn also hands the carry
+/// what moves `m` back onto `|m|` (a turn by the same rounded quaternion every step
+/// otherwise drifts `|m|` linearly: 1.2e-5 in `2.56 x 10^5` steps at `h |Omega| = 0.05`
+/// with a 5 N m s wheel, now 3.9e-8; `an_f32_gyrostat_with_a_fast_wheel_keeps_its_casimir`).
+/// Where
 /// the exact increment is zero (a sphere, whose `m` a torque-free step leaves as it is) the
 /// carry also keeps the increments' own round-off, about `1e-4` ulp a step at `h |Omega| = 5e-4` (more at
 /// faster turns: 5e-3 ulp a step at `2.5e-3`, bounded from `10^5` to `10^6` steps), which

@@ -39,6 +39,12 @@ impl<T: Real> Vec3<T> {
     pub fn scale(self, s: T) -> Self {
         Self::new(self.x * s, self.y * s, self.z * s)
     }
+    /// Each component divided by `s` (three divisions, no reciprocal: the reciprocal of a
+    /// subnormal `s` overflows; for scaling a vector to its largest entry off the hot path).
+    #[inline]
+    pub fn divided_by(self, s: T) -> Self {
+        Self::new(self.x / s, self.y / s, self.z / s)
+    }
     /// Component-wise product (a diagonal matrix times a vector).
     #[inline]
     pub fn mul_elem(self, o: Self) -> Self {

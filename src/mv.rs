@@ -228,13 +228,15 @@ fn dropped_by_sum<T: Real>(m: Vec3<T>, added: Vec3<T>, next: Vec3<T>) -> Vec3<T>
 /// motion, which no hold can restore (at 1.3e-3 rad/s and 1 kHz the attitude was 8.3e-3 rad
 /// and `m` 7.4e-3 off after `10^6` steps). In f32 the plain steps keep what the rounding of
 /// `m + increment` and `q + turn` dropped (Fast2Sum: the error of a sum is exact) and add it
-/// to the next step's increments, also across a caller's small corrections of `m` (the
-/// carry kept while below `64 eps |m|`) or `q` and across pauses (a filter or a clock that
-/// dropped it every tick lost the slow motion's rounding with a bias: `|m|^2` 1.3e-3 off
-/// after `2 x 10^5` ticks at 8.4e-4 rad/s, now 1.2e-8, tests/mv.rs
+/// to the next step's increments, also across a caller's small corrections (`m` within 1 %
+/// of the momentum returned last, `q` within about 0.02 rad of the attitude) and across
+/// pauses (a filter or a clock that dropped it every tick lost the slow motion's rounding
+/// with a bias: `|m|^2` 1.3e-3 off after `2 x 10^5` ticks at 8.4e-4 rad/s, now 1.2e-8,
+/// tests/mv.rs
 /// `f32_slow_turns_keep_their_motion_under_corrections_and_pauses`; found in review), on
 /// trajectories with `h |Omega|` below `1e-3` (above, rounding is unbiased, carrying it
-/// measured worse, and the steps are the plain ones): 1.0e-7 rad and 2.6e-8 there, 1.4e-5 rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
+/// measured worse, and the steps are the plain ones): 1.0e-7 rad and 2.6e-8 there, 1.4e-5
+/// rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
 /// tests/mv.rs `f32_slow_turns_keep_their_phase`, against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
 /// `R(q) m` in f32: taken at every hold they drove the phase about the spatial momentum by
 /// 8e-6 rad in the same run. Cost on the M4F: 18 instructions of the 188 of a momentum step,
@@ -875,7 +877,7 @@ impl<T: Real> Mv<T> {
         if !(jbb.norm2() > T::EPSILON * sq(b.norm2())) {
             return root;
         }
-        let u = Vec3::new(dm.x / sd, dm.y / sd, dm.z / sd);
+        let u = dm.divided_by(sd);
         // est = -4 ((J b) x b) . dm / (h |dm|^2) = k sj / (h sd), |u|^2 in [1, 3]
         let k = -c::<T>(4.0) * jbb.dot(u) / u.norm2();
         let est = if k == T::ZERO {
@@ -1046,11 +1048,11 @@ impl<T: Real> Mv<T> {
 
     /// Whether `m`, not the momentum returned last, is that one corrected by a little (within
     /// 1 % of `|m|`, so the carry, a few ulps of the last momentum at most, is a few of `m`'s):
-    /// a filter's correction, whose state the carried rounding still belongs to. Not a replacement: one `Mv` switched between two
-    /// trajectories every tick leaked each one's carry into the other (`|m|` of the smaller
-    /// drifted 6.6e-2 in `2 x 10^5` ticks), and a momentum replaced by one 120 times smaller
-    /// took up to 64 of its ulps (found in review of a first version that tested the carry's
-    /// size alone).
+    /// a filter's correction, whose state the carried rounding still belongs to. Not a
+    /// replacement: one `Mv` switched between two trajectories every tick leaked each one's
+    /// carry into the other (`|m|` of the smaller drifted 6.6e-2 in `2 x 10^5` ticks), and a
+    /// momentum replaced by one 120 times smaller took up to 64 of its ulps (found in review
+    /// of a first version that tested the carry's size alone).
     #[inline(always)]
     fn corrected_by_little(&self, m: Vec3<T>) -> bool {
         matches!(&self.anchor, Some(a) if m.sub(a.last).norm2() <= c::<T>(1e-4) * m.norm2())
@@ -2057,10 +2059,9 @@ fn quarter_turn_cosine<T: Real>(m: Vec3<T>, b: Vec3<T>, root: T, dm: Vec3<T>) ->
     if !(sm > T::ZERO && sb > T::ZERO && sm <= T::MAX && sb <= T::MAX) {
         return None;
     }
-    // componentwise divisions (cold path): a reciprocal of a subnormal overflows
-    let u = Vec3::new(m.x / sm, m.y / sm, m.z / sm);
-    let d = Vec3::new(dm.x / sm, dm.y / sm, dm.z / sm);
-    let a = Vec3::new(b.x / sb, b.y / sb, b.z / sb);
+    let u = m.divided_by(sm);
+    let d = dm.divided_by(sm);
+    let a = b.divided_by(sb);
     let along = a.dot(u) / a.norm2();
     let perp = u.sub(a.scale(along));
     let (perp2, u2) = (perp.norm2(), u.norm2());

@@ -325,7 +325,7 @@ impl<T: Real> RetimedMv<T> {
         if !(sm > T::ZERO && sm <= T::MAX) {
             return (T::ZERO, T::ZERO);
         }
-        let u = Vec3::new(v.x / sm, v.y / sm, v.z / sm);
+        let u = v.divided_by(sm);
         let turn = u.cross(u.mul_elem(self.inv_i));
         (sq(h * sm) * turn.norm2(), u.norm2())
     }
@@ -597,13 +597,13 @@ fn exact_time<T: Real>(
     if !(sm > T::ZERO && sm <= T::MAX) {
         return Ok(guess);
     }
-    let u = Vec3::new(v1.x / sm, v1.y / sm, v1.z / sm);
+    let u = v1.divided_by(sm);
     let tangent = u.cross(Vec3::from_array(body.angular_velocity(&u.to_array())));
     let st = tangent.max_abs();
     if !(st > T::ZERO && st <= T::MAX) {
         return Ok(guess);
     }
-    let dir = Vec3::new(tangent.x / st, tangent.y / st, tangent.z / st);
+    let dir = tangent.divided_by(st);
     let f = |tau: T| -> Result<T, StepError> {
         if !tau.is_finite() {
             return Err(StepError::NonFinite);
@@ -613,7 +613,7 @@ fn exact_time<T: Real>(
             return Err(StepError::Degenerate);
         }
         let d = m.sub(v1);
-        Ok(Vec3::new(d.x / sm, d.y / sm, d.z / sm).dot(dir))
+        Ok(d.divided_by(sm).dot(dir))
     };
     // f'(tau) = (m x Omega) / |m1| . dir, which is |m1| tangent . dir at the solution: a
     // Newton step with that slope first, then secant steps; done when f is at its round-off
@@ -667,7 +667,7 @@ fn retime<T: Real>(
     if !(sm > T::ZERO) {
         return Ok((h, None));
     }
-    let u = Vec3::new(v.x / sm, v.y / sm, v.z / sm);
+    let u = v.divided_by(sm);
     let w = Vec3::from_array(body.angular_velocity(&u.to_array()));
     if !(u.cross(w).max_abs() > c::<T>(1e3) * T::EPSILON * u.max_abs() * w.max_abs()) {
         return Ok((h, None));

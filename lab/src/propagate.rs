@@ -67,10 +67,19 @@ fn worse(acc: f64, x: f64) -> f64 {
     }
 }
 
-/// `1/2 m . I^-1 m` as `1/2 sum m_i (m_i / I_i)`: `m_i^2` alone overflowed where the energy
-/// does not (`m` and `I` of `1e200`).
-fn energy_of(inertia: [f64; 3], m: [f64; 3]) -> f64 {
-    0.5 * (m[0] * (m[0] / inertia[0]) + m[1] * (m[1] / inertia[1]) + m[2] * (m[2] / inertia[2]))
+/// The energy `1/2 m . I^-1 m`, `|m|^2` and the spatial momentum `R(q) m` of `s`, in f64. The
+/// energy as `1/2 sum m_i (m_i / I_i)`: `m_i^2` alone overflowed where the energy does not
+/// (`m` and `I` of `1e200`).
+fn invariants<T: Real>(inertia: [f64; 3], s: &State<T>) -> (f64, f64, [f64; 3]) {
+    let st = State::new(s.m.map(Real::to_f64), s.q.map(Real::to_f64));
+    let m = st.m;
+    let energy = 0.5
+        * (m[0] * (m[0] / inertia[0]) + m[1] * (m[1] / inertia[1]) + m[2] * (m[2] / inertia[2]));
+    (
+        energy,
+        m[0] * m[0] + m[1] * m[1] + m[2] * m[2],
+        st.spatial_momentum(),
+    )
 }
 
 impl Report {
@@ -124,13 +133,8 @@ pub fn propagate<T: Real>(
     steps: usize,
     with_attitude: bool,
 ) -> Report {
-    let wide = |s: &State<T>| {
-        let m = s.m.map(Real::to_f64);
-        let e = energy_of(body.inertia().map(Real::to_f64), m);
-        let c = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-        let p = State::new(m, s.q.map(Real::to_f64)).spatial_momentum();
-        (e, c, p)
-    };
+    let inertia = body.inertia().map(Real::to_f64);
+    let wide = |s: &State<T>| invariants(inertia, s);
     let (e0, c0, p0) = wide(&s0);
     let pn = dist(p0, [0.0; 3]);
     let mut s = s0;
@@ -214,12 +218,8 @@ pub fn propagate_forced<T: Real>(
     let mut j_drift = 0.0f64;
     // |m|^2, E and R(q) m change under a torque: their max relative change over the run (they
     // are invariants only for a rotor without torque, where this is their drift)
-    let wide = |s: &State<T>| {
-        let st = State::new(s.m.map(Real::to_f64), s.q.map(Real::to_f64));
-        let c = st.m[0] * st.m[0] + st.m[1] * st.m[1] + st.m[2] * st.m[2];
-        (c, energy_of(inertia, st.m), st.spatial_momentum())
-    };
-    let (c0, en0, p0) = wide(&s0);
+    let wide = |s: &State<T>| invariants(inertia, s);
+    let (en0, c0, p0) = wide(&s0);
     let p0n = dist(p0, [0.0; 3]);
     let (mut dc, mut de, mut dp) = (0.0f64, 0.0f64, 0.0f64);
     let mut s = s0;
@@ -237,7 +237,7 @@ pub fn propagate_forced<T: Real>(
         if let (Some(j), Some(j0)) = (jacobi(k, &s), j0) {
             j_drift = worse(j_drift, rel(j, j0));
         }
-        let (c, en, p) = wide(&s);
+        let (en, c, p) = wide(&s);
         dc = worse(dc, rel(c, c0));
         de = worse(de, rel(en, en0));
         dp = worse(dp, dist(p, p0) / p0n.max(f64::MIN_POSITIVE));
