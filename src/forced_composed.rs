@@ -453,13 +453,14 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         self.nystrom
     }
 
-    /// Sets the rotor momentum `h_r` (body frame), as [`crate::Forced::set_rotor`].
+    /// Sets the rotor momentum `h_r` (body frame), as [`crate::Forced::set_rotor`]: a rotor
+    /// whose turn at a stage passes half a revolution at the current step size is taken, and
+    /// the steps return `StepTooLarge` until `h` or the rotor is brought back.
     ///
     /// # Errors
     ///
-    /// `NonFinite`, `Overflow` or `StepTooLarge` (a stage's half turn past half a revolution)
-    /// as [`crate::Forced::set_rotor`]; `RotorUnsupported` for a non-zero rotor on a Nyström or
-    /// force-gradient splitting. The rotor is then unchanged.
+    /// `NonFinite` or `Overflow` as [`crate::Forced::set_rotor`]; `RotorUnsupported` for a
+    /// non-zero rotor on a Nyström or force-gradient splitting. The rotor is then unchanged.
     pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
         if self.nystrom && h_r.iter().any(|&x| x != T::ZERO) {
             return Err(if h_r.iter().all(|x| x.is_finite()) {
@@ -471,9 +472,6 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
         let body = *self.stages[0].body();
         let [r, w, _] = Forcing::<T, F>::checked_rotor(&body, h_r)?;
         let (turns, check) = Self::turns_for(w, &self.drift_len);
-        if check == Err(StepError::StepTooLarge) {
-            return Err(StepError::StepTooLarge);
-        }
         self.forcing.rotor_moved |= r != self.forcing.rotor;
         self.forcing.rotor = r;
         self.forcing.rotor_w = w;

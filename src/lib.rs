@@ -50,7 +50,8 @@
 //! | [`ForcedRk4`] | classical Runge–Kutta on the full forced equations (baseline) | 4 |
 //!
 //! The forced step keeps what the torque leaves: `|m|^2` and `R(q) m` with a rotor alone, the
-//! vertical spatial momentum of a heavy top; small f32 torques are not rounded away (each
+//! vertical spatial momentum of a heavy top (to round-off, or to `O(h^2)` where a fast wheel
+//! takes the relative splitting: [`Forced`]'s docs); small f32 torques are not rounded away (each
 //! kick's lost rounding is carried into the next). docs/MATH.md §9 has the splittings.
 //!
 //! ```

@@ -356,7 +356,7 @@ impl<T: Real> RetimedMv<T> {
         let moved = !self.inner.follows(m);
         if self.h_changed || moved || self.reanchor {
             if self.reanchor || !self.update(m, moved) {
-                self.rebuild(m)?;
+                self.rebuild(m, moved)?;
             }
             self.h_changed = false;
             self.reanchor = false;
@@ -470,12 +470,16 @@ impl<T: Real> RetimedMv<T> {
 
     #[cold]
     #[inline(never)]
-    fn rebuild(&mut self, m: &[T; 3]) -> Result<(), StepError> {
+    fn rebuild(&mut self, m: &[T; 3], moved: bool) -> Result<(), StepError> {
         let (hp, orbit) = retime(&self.inner, self.h, m, self.ratio)?;
         // a fresh inner DMV: the retiming measured h' on fresh steps (a kept root re-solves
         // on a very uneven body differently, by 4e-13 on (1.5, 7026, 7027), and that would
-        // repeat every step)
-        self.inner = self.inner.restarted(hp);
+        // repeat every step); on the same trajectory it keeps the trajectory's invariants
+        self.inner = if moved {
+            self.inner.restarted(hp)
+        } else {
+            self.inner.restarted_on_trajectory(hp)
+        };
         self.ratio = Some(hp / self.h);
         self.anchor = orbit.map(|_| {
             let (hh, cc, s3, _) = self.scaled_invariants(self.h, m);
@@ -864,7 +868,7 @@ mod tests {
         let m = [3.0, 40.0, 12.0];
         for (order, h) in [(2, 0.02), (2, 0.1), (4, 0.02), (4, 0.1), (6, 0.1), (6, 0.2)] {
             let mut a = RetimedMv::new(body, h, order).unwrap();
-            a.rebuild(&m).unwrap();
+            a.rebuild(&m, true).unwrap();
             let rest = a.anchor.unwrap().rest;
             a.h = 1.1 * h;
             let model = a.modelled_step(&m).unwrap().hp;

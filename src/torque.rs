@@ -144,7 +144,9 @@ impl<T: Real> Torque<T> for PeriodicTorque<T> {
 /// `V = mg <R(q) chi, e_z>` with `chi` the centre of mass in the body frame and `e_z` the
 /// spatial vertical (up), so `tau = mg (Gamma x chi)`, `Gamma = R(q)^T e_z`
 /// (Holm, Geometric Mechanics I, §2.4). The vertical spatial momentum `e_z . R(q) m` is
-/// conserved by the flow, and exactly by the kick (`Gamma . tau = 0`) and by the DMV drift.
+/// conserved by the flow, and exactly by the kick (`Gamma . tau = 0`) and by the DMV drift
+/// (with a rotor, by the turns too; a fast wheel's relative splitting keeps it to `O(h^2)`,
+/// crate::forced's docs).
 /// About 20 flops per evaluation, no transcendental call.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
