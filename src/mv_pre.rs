@@ -115,17 +115,24 @@ impl<T: Real> PreMv<T> {
     /// that retimed every tick let `|m|^2` random-walk: 3.1e-13 in f64 and 2.2e-5 in f32
     /// after `10^6` jittered steps of the talk's case, where `PreMv` keeps 4e-16 and 9e-9,
     /// found in review). Without a trajectory, [`PreMv::restarted`].
+    ///
+    /// The inner `Mv` solves its root afresh and keeps its anchor, so the attitude stays held
+    /// to the trajectory's spatial momentum ([`Mv::restart_root`]).
     pub(crate) fn restarted_on_trajectory(&self, h: T) -> Self {
-        let mut fresh = self.restarted(h);
-        if let Some(last) = self.last {
-            fresh.last = Some(last);
-            fresh.h_changed = true;
-            // the body is built again for the first step, which then holds (for the same
-            // modified body the hold would be left to the reset `Mv`, which has no anchor)
-            fresh.modified_inv = None;
-            if matches!(fresh.invariants, Invariants::None) {
-                fresh.invariants = Invariants::Of(last);
-            }
+        let Some(last) = self.last else {
+            return self.restarted(h);
+        };
+        let mut fresh = self.clone();
+        fresh.set_step_size(h);
+        fresh.mv.restart_root();
+        fresh.last = Some(last);
+        fresh.h_changed = true;
+        // the body is built again for the first step, which then holds (for the same
+        // modified body the hold would be left to the `Mv`, which takes the invariants again
+        // from its input after a new root)
+        fresh.modified_inv = None;
+        if matches!(fresh.invariants, Invariants::None) {
+            fresh.invariants = Invariants::Of(last);
         }
         fresh
     }

@@ -833,9 +833,10 @@ fn retimed_steps_end_on_the_exact_solution_at_every_scale() {
     println!("RetimedMv from 1e-300 to 1e300 (f64, orders 2, 4, 10): {worst:.1e} from Exact; f32 from 1e-30 to 1e30 (order 2): {worst32:.1e}");
 }
 
-/// The largest relative errors of `|m|^2` and the energy along `n` steps of `it` from
-/// `m0 * scale` with `h0 / scale` jittered by +-5 % every step (the same motion at every
-/// scale), and the final momentum's distance from `Exact`, relative.
+/// The largest relative errors of `|m|^2`, the energy and the spatial momentum `R(q) m`
+/// along `n` steps of `it` from `m0 * scale` with `h0 / scale` jittered by +-5 % every step
+/// (the same motion at every scale), and the final momentum's distance from `Exact`,
+/// relative.
 fn jittered_invariants<T: rigid3::Real>(
     mut it: Box<dyn Integrator<T>>,
     body: &Body<f64>,
@@ -843,11 +844,18 @@ fn jittered_invariants<T: rigid3::Real>(
     h0: f64,
     scale: f64,
     n: usize,
-) -> (f64, f64, f64) {
+) -> (f64, f64, f64, f64) {
     let mut s = State::new(
         m0.map(|x| T::from_f64(x * scale)),
         [T::ONE, T::ZERO, T::ZERO, T::ZERO],
     );
+    let spatial = |s: &State<T>| {
+        let q = s.q.map(|x| x.to_f64());
+        let r = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+        State::new(s.m.map(|x| x.to_f64() / scale), q.map(|x| x / r)).spatial_momentum()
+    };
+    let p0 = spatial(&s);
+    let mut wp = 0.0f64;
     let c0: f64 = m0.iter().map(|x| x * x).sum();
     let e0 = body.energy(&m0);
     let mut rng = Rng::new(99);
@@ -867,10 +875,11 @@ fn jittered_invariants<T: rigid3::Real>(
         let m = s.m.map(|x| x.to_f64() / scale);
         wc = wc.max((m.iter().map(|x| x * x).sum::<f64>() / c0 - 1.0).abs());
         we = we.max((body.energy(&m) / e0 - 1.0).abs());
+        wp = wp.max(dist(spatial(&s), p0) / norm(p0));
     }
     let m = s.m.map(|x| x.to_f64() / scale);
     let exact = rigid3::Exact::momentum_at(body, &m0, t).unwrap();
-    (wc, we, dist(m, exact) / norm(exact))
+    (wc, we, wp, dist(m, exact) / norm(exact))
 }
 
 /// `PreMv` (orders 4 and 10) under a jittering clock keeps `|m|^2` and the energy at every
@@ -895,7 +904,7 @@ fn jittered_pre_mv_keeps_its_invariants_at_every_scale() {
             30_000,
         );
         for scale in [1e-30, 1e-21, 1e-12, 1e20, 1e30] {
-            let (wc, we, err) = jittered_invariants::<f32>(
+            let (wc, we, _, err) = jittered_invariants::<f32>(
                 Box::new(PreMv::new(body32, (0.1 / scale) as f32, order).unwrap()),
                 &body,
                 TALK_M0,
@@ -903,13 +912,13 @@ fn jittered_pre_mv_keeps_its_invariants_at_every_scale() {
                 scale,
                 30_000,
             );
-            println!("f32 order {order} scale {scale:e}: |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", unit.0, unit.1, unit.2);
+            println!("f32 order {order} scale {scale:e}: |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", unit.0, unit.1, unit.3);
             assert!(
                 wc <= 3e-6 && we <= 3e-6,
                 "f32 order {order} scale {scale:e}: {wc:e} {we:e}"
             );
             assert!(
-                err <= 3.0 * unit.2,
+                err <= 3.0 * unit.3,
                 "f32 order {order} scale {scale:e}: {err:e}"
             );
         }
@@ -922,7 +931,7 @@ fn jittered_pre_mv_keeps_its_invariants_at_every_scale() {
             10_000,
         );
         for scale in [1e-300, 1e-162, 1e-158, 1e160, 1e300] {
-            let (wc, we, err) = jittered_invariants::<f64>(
+            let (wc, we, _, err) = jittered_invariants::<f64>(
                 Box::new(PreMv::new(body, 0.1 / scale, order).unwrap()),
                 &body,
                 TALK_M0,
@@ -930,55 +939,65 @@ fn jittered_pre_mv_keeps_its_invariants_at_every_scale() {
                 scale,
                 10_000,
             );
-            println!("f64 order {order} scale {scale:e}: |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", unit.0, unit.1, unit.2);
+            println!("f64 order {order} scale {scale:e}: |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", unit.0, unit.1, unit.3);
             assert!(
                 wc <= 1e-14 && we <= 1e-14,
                 "f64 order {order} scale {scale:e}: {wc:e} {we:e}"
             );
             assert!(
-                err <= 2.0 * unit.2 + 1e-12,
+                err <= 2.0 * unit.3 + 1e-12,
                 "f64 order {order} scale {scale:e}: {err:e}"
             );
         }
     }
 }
 
-/// `RetimedMv` under a jittering clock (nothing else changed) keeps `|m|^2` and the energy
-/// as `PreMv` does: each exact retiming restarts its inner DMV, which took the invariants
-/// again from its input, so they random-walked (talk's case, `h = 0.1` +-5 %: f64 3.1e-13
-/// after `10^6` steps, f32 order 10 2.2e-5, where `PreMv` keeps 4e-16 and 9e-9; found in
-/// review). The restart now holds the input onto the trajectory's invariants. Oracle: the
-/// start's invariants, and `Exact` (the retimed steps stay on the exact solution).
+/// `RetimedMv` under a jittering clock (nothing else changed) keeps `|m|^2`, the energy and
+/// `R(q) m` as `PreMv` does. Each exact retiming restarts its inner DMV, which took the
+/// invariants again from its input, so they random-walked (talk's case, `h = 0.1` +-5 %: f64
+/// 3.1e-13 after `10^6` steps, f32 order 10 2.2e-5, where `PreMv` keeps 4e-16 and 9e-9), and
+/// dropped its spatial reference, so `R(q) m` random-walked too (a wide body,
+/// `I = (1.5, 1000, 1001)`, where every change of `h` retimes: 9.2e-13 in f64 and 2.7e-4 in
+/// f32 after `10^5` steps, where `PreMv` keeps 2.1e-14 and 1.2e-5). Found in review. A
+/// restart on the same trajectory now holds its first input onto the trajectory's
+/// invariants and keeps the spatial reference. Oracle: the start's invariants, and `Exact`
+/// (the retimed steps stay on the exact solution).
 #[test]
 fn retimed_mv_under_a_jittering_clock_keeps_its_invariants() {
-    let body = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
-    let body32 = Body::<f32>::from_mass_matrix(TALK_J.map(|x| x as f32)).unwrap();
-    for order in [2u8, 10] {
-        let (wc, we, err) = jittered_invariants::<f64>(
-            Box::new(RetimedMv::new(body, 0.1, order).unwrap()),
-            &body,
-            TALK_M0,
-            0.1,
-            1.0,
-            100_000,
-        );
-        let (wc32, we32, err32) = jittered_invariants::<f32>(
-            Box::new(RetimedMv::new(body32, 0.1, order).unwrap()),
-            &body,
-            TALK_M0,
-            0.1,
-            1.0,
-            100_000,
-        );
-        println!("RetimedMv order {order}, 1e5 jittered steps: f64 |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e}; f32 {wc32:.1e} {we32:.1e} {err32:.1e}");
-        assert!(
-            wc <= 4e-15 && we <= 4e-15,
-            "f64 order {order}: {wc:e} {we:e}"
-        );
-        assert!(err <= 3e-11, "f64 order {order}: {err:e}");
-        assert!(
-            wc32 <= 2e-6 && we32 <= 2e-6,
-            "f32 order {order}: {wc32:e} {we32:e}"
-        );
+    let talk = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
+    let wide = Body::<f64>::from_inertia([1.5, 1000.0, 1001.0]).unwrap();
+    let to32 = |b: &Body<f64>| Body::<f32>::from_inertia(b.inertia().map(|x| x as f32)).unwrap();
+    for (name, body, m0, h) in [
+        ("talk", talk, TALK_M0, 0.1),
+        ("wide", wide, [0.3, 0.5, 0.8], 0.5),
+    ] {
+        for order in [2u8, 4, 10] {
+            let (wc, we, wp, err) = jittered_invariants::<f64>(
+                Box::new(RetimedMv::new(body, h, order).unwrap()),
+                &body,
+                m0,
+                h,
+                1.0,
+                100_000,
+            );
+            let (wc32, we32, wp32, err32) = jittered_invariants::<f32>(
+                Box::new(RetimedMv::new(to32(&body), h as f32, order).unwrap()),
+                &body,
+                m0,
+                h,
+                1.0,
+                100_000,
+            );
+            println!("RetimedMv {name} order {order}, 1e5 jittered steps: f64 |m|^2 {wc:.1e}, energy {we:.1e}, R(q)m {wp:.1e}, from Exact {err:.1e}; f32 {wc32:.1e} {we32:.1e} {wp32:.1e} {err32:.1e}");
+            assert!(
+                wc <= 4e-15 && we <= 4e-15 && wp <= 1e-14,
+                "f64 {name} order {order}: {wc:e} {we:e} {wp:e}"
+            );
+            assert!(err <= 3e-11, "f64 {name} order {order}: {err:e}");
+            assert!(
+                wc32 <= 2e-6 && we32 <= 2e-6 && wp32 <= 1e-5,
+                "f32 {name} order {order}: {wc32:e} {we32:e} {wp32:e}"
+            );
+        }
     }
 }
