@@ -7,8 +7,9 @@
 //! (scale invariance). It takes the real root of largest magnitude from the trigonometric
 //! (three real roots) or Cardano (one real root) formula, with the crate's own `asin`, sine
 //! and cosine of an angle within `pi/6`, and cube root (no libm: crate::asin), polishes it by Newton's method on
-//! the scaled polynomial, and deflates: the other two roots have sum `-(a + r)` and product
-//! `-c / r`, and are found from that quadratic with the cancellation-free formula. Deflating
+//! the scaled polynomial, and deflates: the other two roots have product `-c / r` and sum
+//! `-(a + r)`, or `(b + c / r) / r` where the two are small against `r` (the sum from `a`
+//! then cancels), and are found from that quadratic with the cancellation-free formula. Deflating
 //! by the largest root is forward stable (Wilkinson), so every simple root `r` satisfies
 //!
 //! `|r_computed - r| <= 8 eps (|r|^3 + |a| r^2 + |b| |r| + |c|) / |p'(r)|`,
@@ -65,10 +66,19 @@ pub fn solve_cubic<T: Real>(a: T, b: T, cc: T) -> Option<CubicRoots<T>> {
 
     let r = polish(largest_root_guess(a1, b1, c1), a1, b1, c1);
 
-    // The other two roots: y^2 + p y + q = 0 with p = a1 + r, q = -c1 / r (r != 0 since it
-    // is the root of largest magnitude and the scaled polynomial is not y^3).
-    let p = a1 + r;
+    // The other two roots: y^2 + p y + q = 0 with q = -c1 / r (r != 0 since it is the root
+    // of largest magnitude and the scaled polynomial is not y^3) and p = -(y2 + y3), from
+    // either coefficient: `a1 + r` has an absolute error of about eps |r|, `(q - b1) / r`
+    // (`b1 = r (y2 + y3) + q`) one of about eps (|b1| + |q|) / |r|, far smaller when the two
+    // are small against r. Taken from `a1 + r` alone, roots 1e15 apart lost the small ones'
+    // digits: `x^3 - 4.5e7 x^2 - 6.1 x - 1.4e-7` gave them 5.7e-3 and 1.5e-3 off (relative),
+    // 9e11 times the bound below (found in review).
     let q = if r != T::ZERO { -c1 / r } else { b1 };
+    let p = if r != T::ZERO && b1.abs() + q.abs() < sq(r) {
+        (q - b1) / r
+    } else {
+        a1 + r
+    };
     let half_p = p * c(0.5);
     let disc = sq(half_p) - q;
     let roots = if disc >= T::ZERO {

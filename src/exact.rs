@@ -54,7 +54,10 @@
 //!
 //! Against 34-digit references (tests/exact.rs: eight scenes, `t = 1, 10, 100`), `f64`:
 //! `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)` and `|q - q_ref| <= 3.7e-14` (up to the sign of `q`);
-//! `f32`: within `1e-5` for rotations up to about 200 rad, beyond that about
+//! `f32`: within `1e-5` of the f64 solution from the same inputs for rotations up to about
+//! 200 rad where the motion is not more sensitive than that to one f32 ulp of the inputs
+//! (where it is, as much as that: 2.2e-5 after 85 rad on `I = (0.46, 0.34, 0.77)`, where an
+//! ulp of any input moves the solution by 1.85e-5, found in review), beyond that about
 //! `eps_f32 / 2` per radian turned (the phase itself is rounded: 5e-5 after 2000 rad).
 //! Where these bounds do not hold (a first-use trial against a 30-digit integration of
 //! Euler's equations and the attitude):
@@ -66,11 +69,15 @@
 //!   momentum goes on;
 //! - for a nearly symmetric body with `m` near the plane of its two nearly equal moments, and
 //!   for thin rods, the attitude's angle is a small difference of two large terms (the
-//!   characteristic `nu` of `R_J` is large): attitude errors up to `6e-12` for
+//!   characteristic `nu` of `R_J` is large): attitude errors of `6e-12` for
 //!   `I = (1, 2 - 1e-8, 2)`, `m0 = (1e-5, 1, 1)` and `3e-11` for a rod with
 //!   `I_min / I_max = 3e-6`, where an ulp of the input moves the solution by `5e-17` and
-//!   `5e-13`; the momentum keeps its bound. Not fixed (a transformation of `R_J` for large
-//!   `nu` would be needed).
+//!   `5e-13`, and growing as the two moments approach: `3.4e-7` at `t = 10` (`8e-8` at
+//!   `t = 1`) for `I = (0.1, 2, 2 + 1 ulp)`, `m0 = (1e-10, 0.995, 0.1)`, and `9.8e-9` for
+//!   `I = (1, 2, 2 + 1e-15)`, `m0 = (0, 0.6, 0.8)` at `t = 7` (a review against RK4), where
+//!   the true attitude moves `5.6e-16` for an ulp of the input; the momentum keeps its bound.
+//!   Not fixed (a transformation of `R_J` for large `nu` would be needed); for such a body
+//!   take the symmetric one (equal moments: exact there) or a DMV method.
 //!
 //! Cost (talk's case, `f64`; the README's flops and host-time tables): a momentum step 60
 //! counted flops, 7 `sqrt`, 17 libm calls (one `sn, cn, dn`), about 0.4 us on x86-64; a step

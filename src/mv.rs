@@ -1185,9 +1185,12 @@ impl<T: Real> Mv<T> {
     /// negative. The first root of `D` after both stop being positive is found on a monotone
     /// piece between the roots of `D'` (a cubic) by bisection to `2 eps` relative
     /// (`src/max_step.rs`). Accuracy: that of the computed `D`, whose coefficients round and
-    /// which is flat near the bound: within about `1e-5` relative in f64 and `1 %` in f32
-    /// (worst cases of a review against mpmath: `5.5e-6` and `0.8 %`), so a step right at the
-    /// returned bound may be taken or refused (`StepTooLarge`) by the step's own test.
+    /// which is flat near the bound: within about `2e-5` relative in f64 and `2 %` in f32
+    /// (worst of two million random bodies and momenta in a review, against mpmath and
+    /// against bisection on the step's own test: `1.6e-5` and `1.7 %`, the returned bound
+    /// the larger; an earlier review's `5.5e-6` and `0.8 %` were from fewer cases), so a step
+    /// near the returned bound (in f32 at `0.98` of it) may be taken or refused
+    /// (`StepTooLarge`) by the step's own test.
     ///
     /// Returns `T::MAX` for `m = 0` (every step exists) and zero for a non-finite `m`.
     /// Talk's case: `1.060273597`.

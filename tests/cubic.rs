@@ -89,6 +89,63 @@ fn random_simple_roots_meet_the_condition_number_bound() {
     }
 }
 
+/// One root far larger than the other two (up to `1e15` apart): the small roots keep their
+/// digits. Deflating with the sum `-(a + r)` alone cancelled it to round-off of the large
+/// root, and the small roots came out 5.7e-3 and 1.5e-3 off (relative) on the review's case,
+/// 9e11 times the bound (found in review). Oracles: mpmath at 60 digits for that case; for a
+/// sweep of separations, the f64 routine on the same (f32) coefficients for the f32 one, and
+/// roots built in advance with the bound for the f64 one.
+#[test]
+fn widely_separated_roots_keep_the_small_ones() {
+    let got = real_roots(
+        -4.523_712_145_035_148_4e7,
+        -6.106_395_668_789_611,
+        -1.391_766_247_159_223_5e-7,
+    );
+    // mpmath, 60 digits
+    let want = [
+        -1.059_474_420_152_312_3e-7,
+        -2.903_894_688_423_643_4e-8,
+        4.523_712_145_035_162e7,
+    ];
+    for k in 0..3 {
+        let rel = (got[k] - want[k]).abs() / want[k].abs();
+        assert!(rel <= 1e-14, "{got:?} vs {want:?}");
+    }
+    for big in [1e2, 1e4, 1e6, 1e8, 1e10, 1e12, 1e15] {
+        for (r1, r2) in [(-0.1, -0.03), (0.1, -0.03), (0.07, 0.02)] {
+            let roots = [r1, r2, big];
+            let (a, b, c) = coeffs(roots);
+            let got = real_roots(a, b, c);
+            let small = [got[0], got[1]];
+            let mut want = [r1, r2];
+            want.sort_by(|x, y| x.partial_cmp(y).unwrap());
+            for k in 0..2 {
+                let tol = bound(want[k], a, b, c, f64::EPSILON);
+                assert!(
+                    (small[k] - want[k]).abs() <= tol,
+                    "big {big:e}: {got:?} vs {roots:?}, tol {tol:e}"
+                );
+            }
+            // f32 on the rounded coefficients, against f64 on the same numbers
+            let (a32, b32, c32) = (a as f32, b as f32, c as f32);
+            let exact = real_roots(f64::from(a32), f64::from(b32), f64::from(c32));
+            if let Some(CubicRoots::Real(g32)) = solve_cubic(a32, b32, c32) {
+                for k in 0..3 {
+                    let (a, b, c) = (f64::from(a32), f64::from(b32), f64::from(c32));
+                    let tol = bound(exact[k], a, b, c, f64::from(f32::EPSILON));
+                    assert!(
+                        (f64::from(g32[k]) - exact[k]).abs() <= tol,
+                        "f32 big {big:e}: {g32:?} vs {exact:?}"
+                    );
+                }
+            } else {
+                panic!("f32 big {big:e}: not three real roots");
+            }
+        }
+    }
+}
+
 #[test]
 fn complex_pairs_are_found() {
     let mut rng = Rng::new(2);
