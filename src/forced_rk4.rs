@@ -4,7 +4,7 @@ use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{checked_momentum, checked_state, write_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
-use crate::real::{c, Real};
+use crate::real::{c, sq, Real};
 use crate::rk4::{attitude_rate, axpy};
 use crate::torque::Torque;
 
@@ -99,11 +99,20 @@ impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
         m.sub(self.rotor).mul_elem(self.inv_i)
     }
 
+    /// `m'` at a stage; a non-finite torque is `NonFinite` (the model's), or `Overflow` where
+    /// the stage's attitude is far from unit length (`|q|^2 > 2`: the step has blown up past
+    /// RK4's stability, `h |Omega|` above about 2, and the torque overflowed on it; reported as
+    /// bad input before, found by an external check: a heavy top at `h = 3`).
     #[inline]
     fn dm(&self, t: T, m: Vec3<T>, q: Quat<T>) -> Result<Vec3<T>, StepError> {
         let tau = Vec3::from_array(self.torque.torque(t, &q.to_array()));
         if !tau.is_finite() {
-            return Err(StepError::NonFinite);
+            let n2 = sq(q.w) + sq(q.x) + sq(q.y) + sq(q.z);
+            return Err(if n2 <= c::<T>(2.0) && m.is_finite() {
+                StepError::NonFinite
+            } else {
+                StepError::Overflow
+            });
         }
         Ok(m.cross(self.omega(m)).add(tau))
     }

@@ -18,11 +18,12 @@ fn coeffs(r: [f64; 3]) -> (f64, f64, f64) {
     )
 }
 
-/// The forward-error bound of a simple root: K eps sum|terms| / |p'(r)|.
+/// The forward-error bound of a simple root the module docs state:
+/// 8 eps sum|terms| / |p'(r)|.
 fn bound(r: f64, a: f64, b: f64, c: f64, eps: f64) -> f64 {
     let terms = r.abs().powi(3) + a.abs() * r * r + b.abs() * r.abs() + c.abs();
     let dp = (3.0 * r * r + 2.0 * a * r + b).abs();
-    16.0 * eps * terms / dp
+    8.0 * eps * terms / dp
 }
 
 fn real_roots(a: f64, b: f64, c: f64) -> [f64; 3] {

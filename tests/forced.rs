@@ -2398,3 +2398,31 @@ fn f32_composed_with_a_wheel_drifts_as_one_ulp_of_the_wheel() {
     println!("f32 Composed order 4 with a 2 N m s wheel, 2e5 steps: {err:.2e} rad from f64; one ulp of h_r moves it {by_wheel:.2e} ({:.1}x), one of m0 {by_m0:.2e} ({:.1}x)", err / by_wheel, err / by_m0);
     assert!(err <= 3.0 * by_wheel, "{err:e} vs {by_wheel:e}");
 }
+
+/// `ForcedRk4` past its stability (a heavy top at `h = 3`) blows up: the step that overflows
+/// is refused as `Overflow` with the state and time untouched; it was `NonFinite`, the bad-input
+/// error, with a finite state and step (the torque overflowed at a stage's blown-up attitude;
+/// found by an external check). A torque model that returns NaN at a sane state is still
+/// `NonFinite`.
+#[test]
+fn forced_rk4_reports_a_blow_up_as_overflow() {
+    let (body, g, s0) = heavy_top();
+    let g = Gravity { mg: 5.0, ..g };
+    let mut r = ForcedRk4::new(body, 3.0, g);
+    let mut s = s0;
+    let mut last = Ok(());
+    for _ in 0..200 {
+        let before = (s, r.time());
+        last = r.step_state(&mut s);
+        if last.is_err() {
+            assert_eq!((s, r.time()), before);
+            break;
+        }
+    }
+    assert_eq!(last, Err(StepError::Overflow), "{s:?}");
+    let nan = FnTorque(|_t: f64, _q: &[f64; 4]| [f64::NAN, 0.0, 0.0]);
+    let mut r = ForcedRk4::new(body, 0.01, nan);
+    let mut s = s0;
+    assert_eq!(r.step_state(&mut s), Err(StepError::NonFinite));
+    assert_eq!(s, s0);
+}

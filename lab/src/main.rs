@@ -112,8 +112,8 @@ enum Command {
     Claims,
     /// Counted flops per step of every method (the counting `Real`).
     Flops {
-        /// Step size.
-        #[arg(long, default_value_t = 0.1)]
+        /// Step size (nonzero; negative steps backwards).
+        #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
         h: f64,
     },
     /// Forced work-precision at T = 10 against the mpmath references (lab/refs/forced_refs.json):
@@ -277,7 +277,7 @@ fn main() -> ExitCode {
                     let bad = r.non_finite_fields();
                     if r.error.is_none() && !bad.is_empty() {
                         r.error = Some(format!(
-                            "not finite in f64 at the end of the run: {}",
+                            "not representable in f64 (overflow, or an underflow that lost the digits) at the end of the run: {}",
                             bad.join(", ")
                         ));
                     }
@@ -404,13 +404,19 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         }
-        Command::LoopCost { steps, m0, json } => match m0
-            .map(|v| {
+        Command::LoopCost { steps, m0, json } => match (if steps == 0 {
+            Err("--steps must be at least 1".to_string())
+        } else {
+            Ok(m0)
+        })
+        .and_then(|m0| {
+            m0.map(|v| {
                 <[f64; 3]>::try_from(v)
                     .map_err(|_| "--m0 takes three comma-separated numbers".to_string())
             })
             .transpose()
-            .and_then(|m0| rigid3_lab::loop_cost::measure(steps, m0))
+        })
+        .and_then(|m0| rigid3_lab::loop_cost::measure(steps, m0))
         {
             Ok(r) => {
                 if json {

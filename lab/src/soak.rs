@@ -93,15 +93,31 @@ pub fn soak<T: Real + 'static>(
         "f64"
     };
     let mut s = State::new(m0.map(T::from_f64), q0.map(T::from_f64));
-    // the invariants of the state as stored in T, evaluated in f64
+    // the invariants of the state as stored in T, evaluated in f64 in units where the start's
+    // largest component and largest 1 / I_i are near one (powers of two: nothing rounds, and
+    // the relative drifts are those of the caller's units): unscaled, |m|^2 of a momentum of
+    // 1e200 overflowed and of 1e-200 underflowed, and the drifts read 0 with exit 0 (found
+    // by an external check)
+    let pow2 = |x: f64| {
+        if x > 0.0 && x.is_finite() {
+            2f64.powi(-(x.log2().round() as i32))
+        } else {
+            1.0
+        }
+    };
+    let m_unit = pow2(m0.iter().fold(0.0f64, |a, x| a.max(x.abs())));
     let inv_i = body.inertia().map(|x| 1.0 / x.to_f64());
+    let i_unit = pow2(inv_i.iter().fold(0.0f64, |a, &x| a.max(x)));
+    let inv_i = inv_i.map(|x| x * i_unit);
     let wide = |s: &State<T>| {
-        let m = s.m.map(Real::to_f64);
+        let m = s.m.map(|x| x.to_f64() * m_unit);
         let c = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
         let e = 0.5 * (m[0] * m[0] * inv_i[0] + m[1] * m[1] * inv_i[1] + m[2] * m[2] * inv_i[2]);
         let p = State::new(m, s.q.map(Real::to_f64)).spatial_momentum();
         (c, e, p)
     };
+    // the largest of two drifts, a NaN kept (`f64::max` drops it)
+    let worse = |acc: f64, x: f64| if x.is_nan() || x > acc { x } else { acc };
     let (c0, e0, p0) = wide(&s);
     let pn = (p0[0] * p0[0] + p0[1] * p0[1] + p0[2] * p0[2]).sqrt();
     let (c_scale, e_scale, p_scale) = (
@@ -123,10 +139,13 @@ pub fn soak<T: Real + 'static>(
             }
             taken += 1;
             let (c, e, p) = wide(&s);
-            dc = dc.max((c - c0).abs() * c_scale);
-            de = de.max((e - e0).abs() * e_scale);
+            dc = worse(dc, (c - c0).abs() * c_scale);
+            de = worse(de, (e - e0).abs() * e_scale);
             let d = [p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]];
-            dp = dp.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() * p_scale);
+            dp = worse(
+                dp,
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() * p_scale,
+            );
         }
         out.push(Checkpoint {
             steps: taken,
@@ -134,6 +153,11 @@ pub fn soak<T: Real + 'static>(
             energy: de,
             spatial: dp,
         });
+    }
+    // a drift f64 cannot hold (a state that overflowed in the scaled units) is the run's
+    // error, named, as `propagate` does
+    if error.is_none() && !(dc.is_finite() && de.is_finite() && dp.is_finite()) {
+        error = Some("a drift is not finite (the invariants overflow f64)".to_string());
     }
     if error.is_some() && out.last().map(|c| c.steps) != Some(taken) {
         out.push(Checkpoint {
