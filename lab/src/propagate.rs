@@ -134,7 +134,8 @@ impl Report {
 fn units(m0: [f64; 3], inertia: [f64; 3]) -> (f64, f64) {
     let pow2 = |x: f64| {
         if x > 0.0 && x.is_finite() {
-            2f64.powi(-(x.log2().round() as i32))
+            // (clamped: 2^1030 for a subnormal x is infinite)
+            2f64.powi(-(x.log2().round() as i32).clamp(-1000, 1000))
         } else {
             1.0
         }
