@@ -1211,6 +1211,16 @@ fn force_gradient_turned_attitudes_are_unit_and_f32_large_torques_step() {
     assert!(rel <= 1e-6, "{rel:e}");
 }
 
+/// `a`'s step from `s0`, with and without attitude, is `StepTooLarge` and leaves it as it was.
+fn refuses_too_large(a: &mut dyn Integrator<f32>, s0: State<f32>) {
+    let mut s = s0;
+    assert_eq!(a.step_state(&mut s), Err(StepError::StepTooLarge));
+    assert_eq!(s, s0);
+    let mut m = s0.m;
+    assert_eq!(a.step(&mut m), Err(StepError::StepTooLarge));
+    assert_eq!(m, s0.m);
+}
+
 /// A rotor whose half turn passes half a revolution (`h |I^-1 h_r| > 8`, where the rotor's
 /// Cayley turn wraps around and, further out, overflows) makes the steps `StepTooLarge`, state
 /// and time untouched, until `h` or the rotor comes back, whichever of the two moved past the
@@ -1235,12 +1245,7 @@ fn a_rotor_turn_past_half_a_revolution_is_refused() {
         assert_eq!((f.rotor(), c.rotor()), ([big, 0.0, 0.0], [big, 0.0, 0.0]));
         let (tf, tc) = (f.time(), c.time());
         for a in [&mut f as &mut dyn Integrator<f32>, &mut c] {
-            let mut s = s0;
-            assert_eq!(a.step_state(&mut s), Err(StepError::StepTooLarge));
-            assert_eq!(s, s0);
-            let mut m = s0.m;
-            assert_eq!(a.step(&mut m), Err(StepError::StepTooLarge));
-            assert_eq!(m, s0.m);
+            refuses_too_large(a, s0);
         }
         assert_eq!((f.time(), c.time()), (tf, tc));
         f.set_rotor(small).unwrap();
@@ -1254,12 +1259,7 @@ fn a_rotor_turn_past_half_a_revolution_is_refused() {
     // h = 0.05: |I^-1 h_r| h = 50 for Forced, and each of Composed's stages turns past 8 too
     for a in [&mut f as &mut dyn Integrator<f32>, &mut c] {
         a.set_step_size(0.05);
-        let mut s = s0;
-        assert_eq!(a.step_state(&mut s), Err(StepError::StepTooLarge));
-        assert_eq!(s, s0);
-        let mut m = s0.m;
-        assert_eq!(a.step(&mut m), Err(StepError::StepTooLarge));
-        assert_eq!(m, s0.m);
+        refuses_too_large(a, s0);
         a.set_step_size(h);
         let mut s = s0;
         a.step_state(&mut s).unwrap();

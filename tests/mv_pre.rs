@@ -929,64 +929,41 @@ fn jittered_invariants<T: rigid3::Real>(
 /// `Exact`.
 #[test]
 fn jittered_pre_mv_keeps_its_invariants_at_every_scale() {
-    let body = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
-    let body32 = Body::<f32>::from_mass_matrix(TALK_J.map(|x| x as f32)).unwrap();
-    for order in [4u8, 10] {
-        let unit = jittered_invariants::<f32>(
-            Box::new(PreMv::new(body32, 0.1, order).unwrap()),
-            &body,
-            TALK_M0,
-            0.1,
-            1.0,
-            30_000,
-        );
-        for scale in [1e-30, 1e-21, 1e-12, 1e20, 1e30] {
-            let (wc, we, _, err) = jittered_invariants::<f32>(
-                Box::new(PreMv::new(body32, (0.1 / scale) as f32, order).unwrap()),
-                &body,
-                TALK_M0,
-                0.1,
-                scale,
-                30_000,
-            );
-            println!("f32 order {order} scale {scale:e}: |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", unit.0, unit.1, unit.3);
-            assert!(
-                wc <= 3e-6 && we <= 3e-6,
-                "f32 order {order} scale {scale:e}: {wc:e} {we:e}"
-            );
-            assert!(
-                err <= 3.0 * unit.3,
-                "f32 order {order} scale {scale:e}: {err:e}"
-            );
-        }
-        let unit = jittered_invariants::<f64>(
-            Box::new(PreMv::new(body, 0.1, order).unwrap()),
-            &body,
-            TALK_M0,
-            0.1,
-            1.0,
-            10_000,
-        );
-        for scale in [1e-300, 1e-162, 1e-158, 1e160, 1e300] {
-            let (wc, we, _, err) = jittered_invariants::<f64>(
-                Box::new(PreMv::new(body, 0.1 / scale, order).unwrap()),
-                &body,
-                TALK_M0,
-                0.1,
-                scale,
-                10_000,
-            );
-            println!("f64 order {order} scale {scale:e}: |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", unit.0, unit.1, unit.3);
-            assert!(
-                wc <= 1e-14 && we <= 1e-14,
-                "f64 order {order} scale {scale:e}: {wc:e} {we:e}"
-            );
-            assert!(
-                err <= 2.0 * unit.3 + 1e-12,
-                "f64 order {order} scale {scale:e}: {err:e}"
-            );
+    /// Orders 4 and 10 at each scale against the unit-scale run: the invariants within
+    /// `inv_tol`, the distance from `Exact` within `factor` times the unit run's plus `abs`.
+    fn at_scales<T: rigid3::Real + 'static>(
+        scales: &[f64],
+        n: usize,
+        (inv_tol, factor, abs): (f64, f64, f64),
+    ) {
+        let body = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
+        let body_t = Body::<T>::from_mass_matrix(TALK_J.map(T::from_f64)).unwrap();
+        let pre = |order: u8, scale: f64| -> Box<dyn Integrator<T>> {
+            Box::new(PreMv::new(body_t, T::from_f64(0.1 / scale), order).unwrap())
+        };
+        for order in [4u8, 10] {
+            let unit = jittered_invariants::<T>(pre(order, 1.0), &body, TALK_M0, 0.1, 1.0, n);
+            for &scale in scales {
+                let (wc, we, _, err) =
+                    jittered_invariants::<T>(pre(order, scale), &body, TALK_M0, 0.1, scale, n);
+                println!("order {order} scale {scale:e} (eps {:e}): |m|^2 {wc:.1e}, energy {we:.1e}, from Exact {err:.1e} (unit scale {:.1e} {:.1e} {:.1e})", T::EPSILON.to_f64(), unit.0, unit.1, unit.3);
+                assert!(
+                    wc <= inv_tol && we <= inv_tol,
+                    "order {order} scale {scale:e}: {wc:e} {we:e}"
+                );
+                assert!(
+                    err <= factor * unit.3 + abs,
+                    "order {order} scale {scale:e}: {err:e}"
+                );
+            }
         }
     }
+    at_scales::<f32>(&[1e-30, 1e-21, 1e-12, 1e20, 1e30], 30_000, (3e-6, 3.0, 0.0));
+    at_scales::<f64>(
+        &[1e-300, 1e-162, 1e-158, 1e160, 1e300],
+        10_000,
+        (1e-14, 2.0, 1e-12),
+    );
 }
 
 /// `RetimedMv` under a jittering clock (nothing else changed) keeps `|m|^2`, the energy and
