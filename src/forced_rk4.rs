@@ -4,7 +4,7 @@ use crate::body::Body;
 use crate::error::StepError;
 use crate::integrator::{checked_momentum, checked_state, write_state, Integrator, State};
 use crate::linalg::{Quat, Vec3};
-use crate::real::{c, sq, Real};
+use crate::real::{c, Real};
 use crate::rk4::{attitude_rate, axpy};
 use crate::torque::Torque;
 
@@ -107,8 +107,7 @@ impl<T: Real, F: Torque<T>> ForcedRk4<T, F> {
     fn dm(&self, t: T, m: Vec3<T>, q: Quat<T>) -> Result<Vec3<T>, StepError> {
         let tau = Vec3::from_array(self.torque.torque(t, &q.to_array()));
         if !tau.is_finite() {
-            let n2 = sq(q.w) + sq(q.x) + sq(q.y) + sq(q.z);
-            return Err(if n2 <= c::<T>(2.0) && m.is_finite() {
+            return Err(if q.norm2() <= c::<T>(2.0) && m.is_finite() {
                 StepError::NonFinite
             } else {
                 StepError::Overflow

@@ -436,8 +436,18 @@ const HOMOGENEOUS_HI: f64 = 1099511627776.0;
 /// `Midpoint` refused every f64 momentum below `2^-1022` (its on-the-sphere check divided by a
 /// subnormal `max |m|`, found in review; a first fix scaled that check alone).
 pub(crate) fn homogeneous_scale<T: Real>(v: Vec3<T>) -> Option<(T, T)> {
-    let big = v.max_abs();
-    let (lo, hi) = (c::<T>(HOMOGENEOUS_LO), c::<T>(HOMOGENEOUS_HI));
+    power_of_two_scale(v.max_abs(), HOMOGENEOUS_LO, HOMOGENEOUS_HI)
+}
+
+/// Powers of two `(up, down = 1 / up)` that bring a positive `big` into `[lo, hi]`, stepping by
+/// `hi` (`lo = 1 / hi`, both powers of two); `None` when `big` is in range already (two
+/// comparisons), zero or not finite. Where `T` holds no such power (f64 subnormals below
+/// `lo / 2^1000`), the largest one it holds: `big` then ends short of the range but normal.
+/// Scaling by a power of two rounds nothing. ([`homogeneous_scale`] for a step's momentum;
+/// crate::mv_pre's hold of the invariants, whose determinant is quartic in `m`, in a
+/// narrower range.)
+pub(crate) fn power_of_two_scale<T: Real>(big: T, lo: f64, hi: f64) -> Option<(T, T)> {
+    let (lo, hi) = (c::<T>(lo), c::<T>(hi));
     if (big >= lo && big <= hi) || !(big > T::ZERO) || !big.is_finite() {
         return None;
     }

@@ -16,7 +16,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{Integrator, State};
+use crate::integrator::{power_of_two_scale, Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv::Mv;
 use crate::mv_pre_series::series_tables;
@@ -602,28 +602,12 @@ enum Invariants<T> {
     Taken(T, T, T),
 }
 
-/// The power of two that brings a positive `big` within `[2^-16, 2^16]`
-/// (one when it is there already, the common case, or zero or not finite; short of the
-/// range where `T` holds no such power: f64 subnormals, which then end normal). Scaling by a
-/// power of two rounds nothing.
+/// The power of two that brings a positive `big` within `[2^-16, 2^16]` (one when it is
+/// there already, the common case, or zero or not finite; crate::integrator's
+/// `power_of_two_scale`).
 #[inline]
 fn near_unit_scale<T: Real>(big: T) -> T {
-    let (lo, hi) = (c::<T>(1.0 / 65536.0), c::<T>(65536.0));
-    let mut up = T::ONE;
-    if !(big > T::ZERO && big <= T::MAX) {
-        return up;
-    }
-    while big * up < lo {
-        let next = up * hi;
-        if !(next <= T::MAX) {
-            break;
-        }
-        up = next;
-    }
-    while big * up > hi {
-        up *= lo;
-    }
-    up
+    power_of_two_scale(big, 1.0 / 65536.0, 65536.0).map_or(T::ONE, |(up, _)| up)
 }
 
 /// `a == b` component by component (the slice comparison `==` on arrays compiled to a loop

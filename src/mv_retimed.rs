@@ -332,7 +332,7 @@ impl<T: Real> RetimedMv<T> {
 
     /// The model's `h' / h` at momentum `m` (`1 + s3` at order 2, the leading term), for a
     /// retiming whose exact time cannot resolve the step's phase error ([`retime`]); `None`
-    /// above order 2 (the rest is `O(h^4)`).
+    /// above order 2 (the rest is `O(h^4)`) and outside `(0.5, 2)`, as a warm start.
     #[inline]
     fn model_ratio(&self, m: &[T; 3]) -> Option<T> {
         if self.inner.order() != 2 {
@@ -340,7 +340,7 @@ impl<T: Real> RetimedMv<T> {
         }
         let (_, _, s3, _) = self.scaled_invariants(self.h, m);
         let r = T::ONE + s3;
-        r.is_finite().then_some(r)
+        (r > c::<T>(0.5) && r < c::<T>(2.0)).then_some(r)
     }
 
     /// The part of `h' / h - 1` the anchor carries: `s3` at order 2, nothing above.
@@ -503,7 +503,7 @@ impl<T: Real> RetimedMv<T> {
                 rest: hp / self.h - T::ONE - self.modelled(s3),
                 phase: T::ZERO,
                 w2: hw2 / m2,
-                res: c::<T>(8.0) * T::EPSILON * (T::ONE + (m2 / hw2).sqrt().min(T::MAX)),
+                res: time_resolution((m2 / hw2).sqrt()),
             }
         });
         self.check = orbit.map(|orbit| PhaseCheck {
@@ -593,6 +593,15 @@ impl<T: Real> RetimedMv<T> {
             }
         }
     }
+}
+
+/// The resolution of an exact time, relative to the step, at a momentum where
+/// `ratio = |m| / (h |m x Omega|)`: about `8 eps` of the momentum along its path (the
+/// anchor's `res`, and [`retime`]'s test of whether a solve can resolve the model's
+/// correction).
+#[inline]
+fn time_resolution<T: Real>(ratio: T) -> T {
+    c::<T>(8.0) * T::EPSILON * (T::ONE + ratio.min(T::MAX))
 }
 
 /// Time `tau` at which the exact orbit from `m0` reaches `m1` (which lies on it), near `guess`:
@@ -706,8 +715,7 @@ fn retime<T: Real>(
     // cost 20x (found in review of a first version that switched at `|s3|`).
     if let Some(r) = model {
         let hw = h.abs() * sm * u.cross(w).norm2().sqrt();
-        let res = c::<T>(8.0) * T::EPSILON * (T::ONE + u.norm2().sqrt() / hw);
-        if !(res < c::<T>(16.0) * (r - T::ONE).abs()) && r > c::<T>(0.5) && r < c::<T>(2.0) {
+        if !(time_resolution(u.norm2().sqrt() / hw) < c::<T>(16.0) * (r - T::ONE).abs()) {
             return Ok((h * r, Some(orbit)));
         }
     }
@@ -742,7 +750,7 @@ fn retime<T: Real>(
         // `Exact` at `t = 10`, bit for bit `Mv`'s, found by an external check; 18 of 276
         // random f32 runs, none now.)
         let hp = match model {
-            Some(r) if a == h && fa == T::ZERO && r > c::<T>(0.5) && r < c::<T>(2.0) => h * r,
+            Some(r) if a == h && fa == T::ZERO => h * r,
             _ => a,
         };
         return Ok((hp, Some(orbit)));

@@ -59,7 +59,7 @@ fn rel(a: f64, b: f64) -> f64 {
 
 /// The larger of a running maximum and a new value, NaN if either is: `f64::max` drops a NaN,
 /// and an overflowed invariant's drift read 0 (found by an external check).
-fn worse(acc: f64, x: f64) -> f64 {
+pub(crate) fn worse(acc: f64, x: f64) -> f64 {
     if x.is_nan() || x > acc {
         x
     } else {
@@ -129,19 +129,27 @@ impl Report {
     }
 }
 
+/// The power of two that brings a positive finite `x` near one (one for zero or a
+/// non-finite `x`): the unit the lab's drifts are computed in ([`scaled_invariants`],
+/// crate::soak), where nothing rounds.
+pub(crate) fn unit_of(x: f64) -> f64 {
+    if x > 0.0 && x.is_finite() {
+        // (clamped: 2^1030 for a subnormal x is infinite)
+        2f64.powi(-(x.log2().round() as i32).clamp(-1000, 1000))
+    } else {
+        1.0
+    }
+}
+
+/// The largest magnitude of `v`'s components.
+pub(crate) fn max_abs(v: [f64; 3]) -> f64 {
+    v[0].abs().max(v[1].abs()).max(v[2].abs())
+}
+
 /// Powers of two that bring `m0`'s largest component and the largest moment near one (see
 /// [`scaled_invariants`]).
 fn units(m0: [f64; 3], inertia: [f64; 3]) -> (f64, f64) {
-    let pow2 = |x: f64| {
-        if x > 0.0 && x.is_finite() {
-            // (clamped: 2^1030 for a subnormal x is infinite)
-            2f64.powi(-(x.log2().round() as i32).clamp(-1000, 1000))
-        } else {
-            1.0
-        }
-    };
-    let big = |v: [f64; 3]| v[0].abs().max(v[1].abs()).max(v[2].abs());
-    (pow2(big(m0)), pow2(big(inertia)))
+    (unit_of(max_abs(m0)), unit_of(max_abs(inertia)))
 }
 
 /// `|a - b|`, in units of its largest component (squared, a spatial momentum of `1e200`

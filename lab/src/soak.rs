@@ -7,6 +7,7 @@
 //! 10^8 steps take well under a minute on the 2-core machine), so nothing is sampled.
 
 use crate::methods::make;
+use crate::propagate::{max_abs, unit_of, worse};
 use rigid3::{Body, Real, State};
 use serde::Serialize;
 use std::time::Instant;
@@ -98,17 +99,9 @@ pub fn soak<T: Real + 'static>(
     // the relative drifts are those of the caller's units): unscaled, |m|^2 of a momentum of
     // 1e200 overflowed and of 1e-200 underflowed, and the drifts read 0 with exit 0 (found
     // by an external check)
-    let pow2 = |x: f64| {
-        if x > 0.0 && x.is_finite() {
-            // (clamped: 2^1030 for a subnormal x is infinite)
-            2f64.powi(-(x.log2().round() as i32).clamp(-1000, 1000))
-        } else {
-            1.0
-        }
-    };
-    let m_unit = pow2(m0.iter().fold(0.0f64, |a, x| a.max(x.abs())));
+    let m_unit = unit_of(max_abs(m0));
     let inv_i = body.inertia().map(|x| 1.0 / x.to_f64());
-    let i_unit = pow2(inv_i.iter().fold(0.0f64, |a, &x| a.max(x)));
+    let i_unit = unit_of(max_abs(inv_i));
     let inv_i = inv_i.map(|x| x * i_unit);
     let wide = |s: &State<T>| {
         let m = s.m.map(|x| x.to_f64() * m_unit);
@@ -117,8 +110,6 @@ pub fn soak<T: Real + 'static>(
         let p = State::new(m, s.q.map(Real::to_f64)).spatial_momentum();
         (c, e, p)
     };
-    // the largest of two drifts, a NaN kept (`f64::max` drops it)
-    let worse = |acc: f64, x: f64| if x.is_nan() || x > acc { x } else { acc };
     let (c0, e0, p0) = wide(&s);
     let pn = (p0[0] * p0[0] + p0[1] * p0[1] + p0[2] * p0[2]).sqrt();
     let (c_scale, e_scale, p_scale) = (

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 /// three wheels (`scripts/firmware`'s regime table, fixed step; QEMU counts instructions, not
 /// cycles): the forced methods the firmware flies.
 pub const CORTEX_M4F_FORCED: [(&str, &str, f64); 2] = [
-    ("forced mv (M4F)", "mv", 1019.0),
+    ("forced mv (M4F)", "mv", 1020.0),
     ("forced pre-mv4 (M4F)", "pre-mv4", 1243.0),
 ];
 
