@@ -39,12 +39,14 @@
 //! Every function returns `None` for arguments outside its domain or not finite; none
 //! returns NaN or panics.
 
+use crate::integrator::power_of_two_scale;
 use crate::real::{c, sq, Real};
 
 /// Largest number of AGM stages (`c_N <= eps a_N` is reached in at most 15 for `f64`).
 pub const MAX_AGM: usize = 16;
-/// Largest number of duplication steps in Carlson's algorithms.
-pub const MAX_DUPLICATION: usize = 40;
+/// Largest number of duplication steps in Carlson's algorithms (`R_J` with `p` far above the
+/// others needs about `log_4(p / x) + 5`: 41 at `p / x = 1e22`, refused at 40).
+pub const MAX_DUPLICATION: usize = 64;
 
 /// `(f32 value, f64 value)` of a precision-dependent constant, chosen by `T::EPSILON`.
 fn by_precision<T: Real>(single: f64, double: f64) -> T {
@@ -259,8 +261,10 @@ pub fn jacobi_sn_cn_dn<T: Real>(u: T, m: T) -> Option<(T, T, T)> {
 }
 
 /// Carlson's degenerate integral `R_C(x, y) = R_F(x, y, y)`, `x >= 0`, `y > 0`
-/// (DLMF 19.2.17–19.2.19, written with `atan2` and `ln(1+x)` so that `x ~ y` keeps full
-/// relative accuracy).
+/// (DLMF 19.2.17–19.2.19). Relative error a few ulps for every ratio `x / y` (5 eps over
+/// `x / y` in `1e-12..1e12` against mpmath, tests/elliptic.rs): `x < y` with `atan2`, `x ~ y`
+/// with `ln(1 + x)`, and `x > y` without forming `1 - sqrt(1 - y / x)`, which cancelled (2.9e11
+/// ulps at `x / y = 1e12`, found in review).
 #[must_use]
 pub fn carlson_rc<T: Real>(x: T, y: T) -> Option<T> {
     if !(x >= T::ZERO && y > T::ZERO && x.is_finite() && y.is_finite()) {
@@ -269,29 +273,55 @@ pub fn carlson_rc<T: Real>(x: T, y: T) -> Option<T> {
     Some(if x < y {
         let d = (y - x).sqrt();
         d.atan2(x.sqrt()) / d
+    } else if x > c::<T>(4.0) * y {
+        // DLMF 19.2.19, `ln((sqrt x + sqrt(x - y)) / sqrt y) / sqrt(x - y)`: the logarithm is
+        // above ln(2 + sqrt 3) here, so its argument's rounding is not amplified; the quotient
+        // overflows only for a subnormal `y`, where the difference of the two logarithms has
+        // no cancellation (they have opposite signs)
+        let (sx, sy, d) = (x.sqrt(), y.sqrt(), (x - y).sqrt());
+        let ratio = (sx + d) / sy;
+        let log = if ratio.is_finite() {
+            ratio.ln()
+        } else {
+            (sx + d).ln() - sy.ln()
+        };
+        log / d
     } else if x > y {
-        let d = (x - y).sqrt();
-        atanh_over(d / x.sqrt()) / x.sqrt()
+        let sx = x.sqrt();
+        atanh_over((x - y).sqrt() / sx, y / x) / sx
     } else {
         T::ONE / x.sqrt()
     })
 }
 
-/// `atanh(s) / s` for `0 <= s < 1` (`1` at `s = 0`).
-fn atanh_over<T: Real>(s: T) -> T {
+/// `atanh(s) / s` for `0 <= s < 1` (`1` at `s = 0`), given `1 - s^2` (to a few ulps).
+///
+/// `atanh s = 1/2 ln(1 + 2 s / (1 - s))` and `1 - s = (1 - s^2) / (1 + s)`: the caller's
+/// `1 - s^2` comes without cancellation (`y / x` in `R_C`, a sum of positive terms in
+/// `R_J`), where `1 - s` formed from `s` near one lost every digit the cancellation took.
+fn atanh_over<T: Real>(s: T, one_minus_s2: T) -> T {
     if s == T::ZERO {
         return T::ONE;
     }
-    c::<T>(0.5) * ln_1p(c::<T>(2.0) * s / (T::ONE - s)) / s
+    let num = c::<T>(2.0) * s * (T::ONE + s);
+    let arg = num / one_minus_s2;
+    let log = if arg.is_finite() {
+        ln_1p(arg)
+    } else {
+        // 1 - s^2 below MAX^-1: ln(num / (1 - s^2)) is hundreds, the difference has no
+        // cancellation
+        num.ln() - one_minus_s2.ln()
+    };
+    c::<T>(0.5) * log / s
 }
 
-/// `R_C(1, 1 + e)` for `e > -1`.
-fn rc_one<T: Real>(e: T) -> T {
+/// `R_C(1, 1 + e)` for `e > -1`, given `1 + e` (to a few ulps, see [`carlson_rj`]).
+fn rc_one<T: Real>(e: T, one_plus_e: T) -> T {
     if e > T::ZERO {
         let s = e.sqrt();
         s.atan2(T::ONE) / s
     } else if e < T::ZERO {
-        atanh_over((-e).sqrt())
+        atanh_over((-e).sqrt(), one_plus_e)
     } else {
         T::ONE
     }
@@ -347,7 +377,8 @@ pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> Option<T> {
 /// `R_J(x, y, z, p) = 3/2 int_0^inf dt / ((t + p) sqrt((t + x)(t + y)(t + z)))`
 /// (DLMF 19.16.2), `x, y, z >= 0` with at most one zero, `p > 0`. Duplication algorithm
 /// (Carlson 1995, §2, in the form with `d_m`, `e_m` and `R_C(1, 1 + e_m)`, DLMF 19.36.ii);
-/// relative error a few ulps.
+/// relative error a few ulps, for `p` far below or above `x, y, z` too (8 eps over
+/// `p / x` in `1e-13..1e13` against mpmath, tests/elliptic.rs).
 #[must_use]
 pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     if !(x >= T::ZERO && y >= T::ZERO && z >= T::ZERO && p > T::ZERO) {
@@ -356,8 +387,49 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     if !(x.is_finite() && y.is_finite() && z.is_finite() && p.is_finite()) {
         return None;
     }
+    // homogeneous of degree -3/2: a largest argument outside `[2^-80, 2^80]` (f32; f64
+    // `[2^-600, 2^600]`) is brought into it by a power of four (exact, and so is its square root), where the products of three
+    // square roots neither overflow nor underflow (f32 returned `None` from `p = 7e12` with
+    // `x, y, z` near one, found writing tests/elliptic.rs); an argument the scale takes below
+    // the normal range would lose its digits, and is refused rather than answered wrongly
+    // (scaled into `[2^-16, 2^16]`, a first version answered `R_J(6e-10, 1e19, 3.4e7, 1e-30)`
+    // 0.34 % off in f32, found in review)
+    let range = if T::EPSILON.to_f64() > 1e-10 {
+        RJ_RANGE_F32
+    } else {
+        RJ_RANGE_F64
+    };
+    let value = match power_of_two_scale(x.max(y).max(z).max(p), range.recip(), range) {
+        Some((up, _)) => {
+            let scaled = [x * up, y * up, z * up, p * up];
+            let lost = [x, y, z, p]
+                .iter()
+                .zip(scaled.iter())
+                .any(|(&a, &b)| a != T::ZERO && !(b >= T::MIN_POSITIVE));
+            if lost {
+                return None;
+            }
+            let [xs, ys, zs, ps] = scaled;
+            carlson_rj_in_range(xs, ys, zs, ps)? * up * up.sqrt()
+        }
+        None => carlson_rj_in_range(x, y, z, p)?,
+    };
+    Some(value).filter(|v| v.is_finite())
+}
+
+/// A largest argument of [`carlson_rj`] outside `[1 / range, range]` is scaled into it (powers
+/// of four): there `(sqrt p + sqrt x)(sqrt p + sqrt y)(sqrt p + sqrt z)` and `A^(3/2)` stay
+/// normal and finite (f32 overflows them from about `1e25`).
+const RJ_RANGE_F32: f64 = 1.2089258196146292e24; // 2^80
+const RJ_RANGE_F64: f64 = 4.149515568880993e180; // 2^600
+
+/// [`carlson_rj`] for finite arguments of a moderate size.
+fn carlson_rj_in_range<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     let a0 = (x + y + z + c::<T>(2.0) * p) / c::<T>(5.0);
-    let delta = (p - x) * (p - y) * (p - z);
+    // `e_n = 4^-3n (p - x)(p - y)(p - z) / d_n^2` factor by factor, each in `[-1, 1]`: the
+    // cube and `4^-3n` apart under- and overflowed (f32's `4^-3n` was zero after 25
+    // duplications, and `R_J(0.7, 1.3, 2.1, 1e17)` came out 4 % off; found in review)
+    let (dpx, dpy, dpz) = (p - x, p - y, p - z);
     let q = by_precision::<T>(17.96, 512.0)
         * (a0 - x)
             .abs()
@@ -367,7 +439,6 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     let (x0, y0, z0) = (x, y, z);
     let (mut x, mut y, mut z, mut p, mut a) = (x, y, z, p, a0);
     let mut f = T::ONE; // 4^-n
-    let mut f3 = T::ONE; // 4^-3n
     let mut sum = T::ZERO;
     let quarter = c::<T>(0.25);
     let mut done = false;
@@ -379,18 +450,20 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
         let (sx, sy, sz, sp) = (x.sqrt(), y.sqrt(), z.sqrt(), p.sqrt());
         let lam = sx * (sy + sz) + sy * sz;
         let d = (sp + sx) * (sp + sy) * (sp + sz);
-        let e = f3 * delta / sq(d);
-        if !(e > -T::ONE) || !d.is_finite() || !(d > T::ZERO) {
+        let e = (f * dpx / sq(sp + sx)) * (f * dpy / sq(sp + sy)) * (f * dpz / sq(sp + sz));
+        // `1 + e` from its positive terms ([`one_plus`]): `e` itself may round to -1 where
+        // `1 + e` is `1e-8` (f32 `p / x = 1e-15` was refused)
+        let one_plus_e = one_plus(e, sp, sx, sy, sz);
+        if !(one_plus_e > T::ZERO) || !d.is_finite() || !(d > T::ZERO) {
             return None;
         }
-        sum += f * rc_one(e) / d;
+        sum += f * rc_one(e, one_plus_e) / d;
         x = (x + lam) * quarter;
         y = (y + lam) * quarter;
         z = (z + lam) * quarter;
         p = (p + lam) * quarter;
         a = (a + lam) * quarter;
         f *= quarter;
-        f3 *= c::<T>(1.0 / 64.0);
     }
     if !done || !(a > T::ZERO) {
         return None;
@@ -410,6 +483,30 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
         - c::<T>(9.0 / 52.0) * e2 * e3
         + c::<T>(3.0 / 26.0) * e5;
     Some(f * series / (a * a.sqrt()) + c::<T>(6.0) * sum)
+}
+
+/// `1 + e` for `R_J`'s `e = delta / (4^3n d^2)`, to a few ulps.
+///
+/// `e` is the product of `r_i = (sqrt p - sqrt x_i) / (sqrt p + sqrt x_i)` (as
+/// `p - x_i = (sqrt p - sqrt x_i)(sqrt p + sqrt x_i)`, and `delta` scales by `4^-3` at each
+/// duplication), and near `-1` where `p` is far from each of `x, y, z` (all three far above it,
+/// or one above and two below). `1 + e` then cancelled: `R_J` was 1.2e5 ulps off at
+/// `p / x = 1e-12` (found in review). With `v_i = 1 - |r_i| = 2 min(sqrt p, sqrt x_i) /
+/// (sqrt p + sqrt x_i)`, `1 + e = 1 - |r_1| |r_2| |r_3| = v_1 + |r_1| (v_2 + |r_2| v_3)`, a
+/// sum of positive terms. Below `e = -1/2` every `|r_i|` is at least 1/2, so `sqrt p` and
+/// `sqrt x_i` differ by a factor of three and `|r_i|` has no cancellation either.
+fn one_plus<T: Real>(e: T, sp: T, sx: T, sy: T, sz: T) -> T {
+    if e >= c::<T>(-0.5) {
+        return T::ONE + e;
+    }
+    let far = |s: T| {
+        let sum = sp + s;
+        ((sp - s).abs() / sum, c::<T>(2.0) * sp.min(s) / sum)
+    };
+    let (r1, v1) = far(sx);
+    let (r2, v2) = far(sy);
+    let (_, v3) = far(sz);
+    v1 + r1 * (v2 + r2 * v3)
 }
 
 /// `phi = j pi + phi_r`, `|phi_r| <= pi / 2`; returns `(sin phi_r, cos phi_r, j)`.

@@ -499,12 +499,19 @@ impl<T: Real> Tumble<T> {
 
 /// The exact solution of the free rigid body (momentum and attitude), as an integrator.
 ///
-/// `step` and `step_state` advance by the exact flow over `h` (module docs for the formulas
-/// and sources). The trajectory is set up once from the state the integrator first sees and
+/// `step` and `step_state` advance by the exact flow over `h` (Jacobi elliptic functions for
+/// `m`, Landau & Lifshitz §37; Carlson's `R_J` for the attitude's angle, after van Zon &
+/// Schofield 2007; docs/MATH.md §6). The trajectory is set up once from the state the integrator first sees and
 /// each step evaluates it at `n h`, so stepping has no error accumulation at all: `n` steps
 /// agree with [`Exact::at`] at `n h` to round-off. If the caller changes the state between
 /// steps, or after `2^20` steps, the trajectory is set up again from the current state.
 /// `h` may be negative (backwards in time). A step's errors are those of [`Exact::at`].
+///
+/// Accuracy (f64, against 34-digit references on eight scenes up to `t = 100`,
+/// tests/exact.rs): `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)`, `|q - q_ref| <= 3.7e-14`; f32
+/// within `1e-5` of f64's solution for rotations up to about 200 rad, then about `eps / 2`
+/// per radian turned. Worse, as [`Exact::at`] states: near the separatrix (as sensitive as the
+/// orbit itself), and the attitude of a nearly symmetric body or a thin rod (up to `3.4e-7`).
 #[derive(Clone, Debug)]
 pub struct Exact<T> {
     body: Body<T>,
@@ -539,6 +546,18 @@ impl<T: Real> Exact<T> {
     /// The exact state at time `t` (any sign) from `s0`. The quaternion is continuous in `t`
     /// and equals `s0.q` (normalised) at `t = 0`.
     ///
+    /// Accuracy (f64, tests/exact.rs against 34-digit references, `t` up to 100):
+    /// `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)` and `|q - q_ref| <= 3.7e-14` up to the sign of
+    /// `q`; f32 within `1e-5` of the f64 solution from the same inputs for rotations up to about
+    /// 200 rad (or as much as one f32 ulp of the input moves the motion, where that is more),
+    /// then about `eps / 2` per radian turned. Near the separatrix (`E` near
+    /// `|m|^2 / (2 I_mid)`) the error is that of an ulp's change of the input (the orbit is
+    /// that sensitive); for a nearly symmetric body with `m` near the plane of its two nearly
+    /// equal moments, and for thin rods, the attitude's angle is a small difference of large
+    /// terms: `6e-12` at `I = (1, 2 - 1e-8, 2)`, up to `3.4e-7` at `I = (0.1, 2, 2 + 1 ulp)`
+    /// (take the symmetric body, exact there, or a DMV method). Exactly on the separatrix it
+    /// refuses with `StepTooLarge` from about `t = 1e4`.
+    ///
     /// # Errors
     ///
     /// [`StepError::NonFinite`] for a non-finite state or `t` or a zero quaternion,
@@ -553,7 +572,8 @@ impl<T: Real> Exact<T> {
         crate::orbit::Orbit::new(body, s0)?.at(t)
     }
 
-    /// The exact body momentum at time `t` (any sign) from `m0`.
+    /// The exact body momentum at time `t` (any sign) from `m0`: one `sn, cn, dn` after the
+    /// set-up. Accuracy as [`Exact::at`]'s for `m` (f64 `3.2e-14 max(1, |m|)`).
     ///
     /// # Errors
     ///

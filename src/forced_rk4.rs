@@ -139,6 +139,10 @@ impl<T: Real, F: Torque<T>> Integrator<T> for ForcedRk4<T, F> {
             return Err(StepError::NonFinite);
         }
         let (v, q) = checked_state(s)?;
+        // h = 0 leaves the state as it is (the trait's promise; the step renormalised q)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let (h, hh, t) = (self.h, self.h * c::<T>(0.5), self.t);
         let end = t + h;
         if !end.is_finite() {

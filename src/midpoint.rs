@@ -152,6 +152,10 @@ impl<T: Real> Integrator<T> for Midpoint<T> {
 
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         let (v, q) = checked_state(s)?;
+        // h = 0 leaves the state as it is (the trait's promise; the step renormalised q)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let (v, h, scale) = in_homogeneous_units(v, self.h)?;
         let y = self.midpoint(v, h)?;
         let next = y.scale(c::<T>(2.0)).sub(v);

@@ -16,7 +16,7 @@
 
 use crate::body::Body;
 use crate::error::StepError;
-use crate::integrator::{power_of_two_scale, Integrator, State};
+use crate::integrator::{checked_attitude, power_of_two_scale, Integrator, State};
 use crate::linalg::{Mat3, Quat, Vec3};
 use crate::mv::Mv;
 use crate::mv_pre_series::series_tables;
@@ -159,13 +159,15 @@ impl<T: Real> PreMv<T> {
     /// it is not `m` itself: after a change of `h` alone, `m` moved back onto the
     /// trajectory's invariants.
     #[inline(always)]
-    fn prepare(&mut self, m: &[T; 3]) -> Result<Option<[T; 3]>, StepError> {
+    fn prepare(&mut self, m: &[T; 3], q: Option<&[T; 4]>) -> Result<Option<[T; 3]>, StepError> {
         if self.follows(m) {
             if !self.h_changed {
                 return Ok(None);
             }
+            checked_attitude(q)?;
             return self.retime(m);
         }
+        checked_attitude(q)?;
         self.rebuild(m, None)?;
         // formed when a change of h first needs them (a loop that changes m every tick
         // never does)
@@ -338,7 +340,7 @@ impl<T: Real> PreMv<T> {
 
 impl<T: Real> Integrator<T> for PreMv<T> {
     fn step(&mut self, m: &mut [T; 3]) -> Result<(), StepError> {
-        match self.prepare(m)? {
+        match self.prepare(m, None)? {
             // Mv leaves its input as it was on Err
             None => self.mv.step(m)?,
             Some(held) => {
@@ -368,7 +370,7 @@ impl<T: Real> Integrator<T> for PreMv<T> {
     fn step_state(&mut self, s: &mut State<T>) -> Result<(), StepError> {
         // in place when the momentum needs no hold: a copy of the state in and out cost
         // the host's f32 step 4 ns in 25
-        match self.prepare(&s.m)? {
+        match self.prepare(&s.m, Some(&s.q))? {
             None => self.mv.step_state(s)?,
             Some(held) => {
                 let mut next = State::new(held, s.q);
@@ -641,7 +643,7 @@ fn reciprocals<T: Real>([x, y, z]: [T; 3]) -> [T; 3] {
 impl<T: Real> PreMv<T> {
     /// The carried step ([`Integrator::step_carrying`]) through `Mv`'s.
     fn step_carried(&mut self, m: &mut [T; 3], lost: &mut [T; 3]) -> Result<(), StepError> {
-        let mut next = match self.prepare(m)? {
+        let mut next = match self.prepare(m, None)? {
             None => *m,
             Some(held) => held,
         };
@@ -659,7 +661,7 @@ impl<T: Real> PreMv<T> {
         s: &mut State<T>,
         lost: &mut State<T>,
     ) -> Result<(), StepError> {
-        let mut next = match self.prepare(&s.m)? {
+        let mut next = match self.prepare(&s.m, Some(&s.q))? {
             None => *s,
             Some(held) => State::new(held, s.q),
         };
@@ -677,7 +679,7 @@ impl<T: Real> PreMv<T> {
         &mut self,
         s: &mut State<T>,
     ) -> Result<(Quat<T>, Vec3<T>), StepError> {
-        let p = match self.prepare(&s.m)? {
+        let p = match self.prepare(&s.m, Some(&s.q))? {
             None => self.mv.step_state_rotation(s)?,
             Some(held) => {
                 let mut next = State::new(held, s.q);

@@ -20,7 +20,7 @@
 use crate::body::Body;
 use crate::error::StepError;
 use crate::exact::Orbit as Flow;
-use crate::integrator::{checked_momentum, checked_state, Integrator, State};
+use crate::integrator::{checked_attitude, checked_momentum, checked_state, Integrator, State};
 use crate::linalg::Vec3;
 use crate::mv_pre::{s3_coefficients, PreMv};
 use crate::real::{c, sq, Real};
@@ -365,9 +365,10 @@ impl<T: Real> RetimedMv<T> {
     }
 
     #[inline(always)]
-    fn prepare(&mut self, m: &[T; 3]) -> Result<(), StepError> {
+    fn prepare(&mut self, m: &[T; 3], q: Option<&[T; 4]>) -> Result<(), StepError> {
         let moved = !self.inner.follows(m);
         if self.h_changed || moved || self.reanchor {
+            checked_attitude(q)?;
             if self.reanchor || !self.update(m, moved) {
                 self.rebuild(m, moved)?;
             }
@@ -783,7 +784,7 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
         if self.idle {
             return checked_momentum(m).map(|_| ());
         }
-        self.prepare(m)?;
+        self.prepare(m, None)?;
         self.inner.step(m)?;
         self.count_step(m);
         Ok(())
@@ -793,7 +794,7 @@ impl<T: Real> Integrator<T> for RetimedMv<T> {
         if self.idle {
             return checked_state(s).map(|_| ());
         }
-        self.prepare(&s.m)?;
+        self.prepare(&s.m, Some(&s.q))?;
         self.inner.step_state(s)?;
         self.count_step(&s.m);
         Ok(())

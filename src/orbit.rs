@@ -13,8 +13,8 @@ use crate::real::Real;
 ///
 /// The set-up ([`Orbit::new`]) does the work that does not depend on `t`: sorting the axes,
 /// the modulus and frequency of the Jacobi elliptic functions, the complete integrals `K` and
-/// `R_J`, the phase at `t = 0` (Carlson's `R_F`) and the initial attitude's frame (module docs
-/// of [`crate::Exact`]: Landau & Lifshitz §37 for `m`, after van Zon & Schofield 2007 for `q`).
+/// `R_J`, the phase at `t = 0` (Carlson's `R_F`) and the initial attitude's frame (Landau &
+/// Lifshitz §37 for `m`, after van Zon & Schofield 2007 for `q`; docs/MATH.md §6).
 /// Each evaluation is then one `sn, cn, dn` for the momentum ([`Orbit::momentum_at`], about
 /// 60 flops and 7 square roots), plus one `R_J` and a `sin`/`cos` for the attitude
 /// ([`Orbit::at`]), with no re-solving: it is what [`crate::Exact::at`] costs less the set-up.

@@ -15,8 +15,11 @@ use crate::real::{c, Real};
 ///
 /// Not structure preserving: `|m|^2`, `E` and `R(q) m` drift at `O(h^4)` per unit time, so it
 /// is the accuracy-per-cost leader at short horizons and loses at long ones. Explicit, so
-/// past `h |Omega| ~ 2.8` it blows up: a step whose result overflows returns
-/// `StepError::Overflow` and leaves the state as it was. At momenta outside `[2^-40, 2^40]`
+/// at large steps it blows up, from `h |Omega|` about 2.6 on some bodies (3 to 6 on most of
+/// 300 random ones, past 15 on a few): a step whose result overflows returns
+/// `StepError::Overflow` and leaves the state as it was; below that, and often well above
+/// 2.8, the step stays finite but silently dissipative (the talk's case at `h |Omega| = 2.8`:
+/// `|m|^2` lost 67 % over `10^5` steps, every step `Ok`). At momenta outside `[2^-40, 2^40]`
 /// (about `1e-12` to `1e12`) the step runs on `m` scaled by a power of two and `h` by its
 /// inverse, the same motion (Euler's equations are quadratic in `m`), so in f32 `m x I^-1 m`
 /// does not underflow to a step that leaves `m` as it was (it did at `|m| = 1e-25`); inside,
@@ -99,6 +102,10 @@ impl<T: Real> Integrator<T> for Rk4<T> {
             return Err(StepError::NonFinite);
         }
         let (v, q) = checked_state(s)?;
+        // h = 0 leaves the state as it is (the trait's promise; the step renormalised q)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let (v, h, scale) = in_homogeneous_units(v, self.h)?;
         let hh = h * c::<T>(0.5);
         let k1 = self.f(v);

@@ -186,6 +186,10 @@ impl<T: Real> Integrator<T> for Splitting<T> {
             return Err(StepError::NonFinite);
         }
         let (v, q) = checked_state(s)?;
+        // h = 0 leaves the state as it is (the trait's promise; the step renormalised q)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let (h, hh, w) = (self.h, self.h * c::<T>(0.5), self.inv_i);
         let (v, q) = rotate_state(v, q, 0, w.x, hh);
         let (v, q) = rotate_state(v, q, 1, w.y, hh);
@@ -278,6 +282,10 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
             return Err(StepError::NonFinite);
         }
         let (v, q) = checked_state(s)?;
+        // h = 0 leaves the state as it is (the trait's promise; the step renormalised q)
+        if self.h == T::ZERO {
+            return Ok(());
+        }
         let (h, hh) = (self.h, self.h * c::<T>(0.5));
         let [a, b, _] = self.axes;
         let (v, q) = rotate_state(v, q, a, self.w.x, hh);

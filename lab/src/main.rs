@@ -176,6 +176,10 @@ enum Command {
         /// Initial attitude w,x,y,z, body to space (default: the spacecraft's).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         q0: Option<Vec<f64>>,
+        /// Constant rotor momentum hx,hy,hz (body frame): a gyrostat, stepped by the forced
+        /// step of the method (`rigid3-lab methods`), E its energy.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        rotor: Option<Vec<f64>>,
         /// Print JSON.
         #[arg(long)]
         json: bool,
@@ -439,6 +443,7 @@ fn main() -> ExitCode {
             inertia,
             m0,
             q0,
+            rotor,
             json,
         } => {
             let (si, sm, sq) = rigid3_lab::scenes::spacecraft();
@@ -446,17 +451,18 @@ fn main() -> ExitCode {
                 inertia.map_or(Ok(si), <[f64; 3]>::try_from),
                 m0.map_or(Ok(sm), <[f64; 3]>::try_from),
                 q0.map_or(Ok(sq), <[f64; 4]>::try_from),
+                rotor.map(<[f64; 3]>::try_from).transpose(),
             );
-            let (Ok(inertia), Ok(m0), Ok(q0)) = parsed else {
+            let (Ok(inertia), Ok(m0), Ok(q0), Ok(rotor)) = parsed else {
                 eprintln!(
-                    "error: --inertia and --m0 take three comma-separated numbers, --q0 four"
+                    "error: --inertia, --m0 and --rotor take three comma-separated numbers, --q0 four"
                 );
                 return ExitCode::FAILURE;
             };
             let r = if f32 {
-                rigid3_lab::soak::soak::<f32>(&method, inertia, m0, q0, h, steps)
+                rigid3_lab::soak::soak::<f32>(&method, inertia, m0, q0, h, steps, rotor)
             } else {
-                rigid3_lab::soak::soak::<f64>(&method, inertia, m0, q0, h, steps)
+                rigid3_lab::soak::soak::<f64>(&method, inertia, m0, q0, h, steps, rotor)
             };
             match r {
                 Ok(r) => {

@@ -6,6 +6,7 @@
 //! |R(q0) m0|`. Evaluating every step costs about as much as an `Mv` step in f32 (a few ns;
 //! 10^8 steps take well under a minute on the 2-core machine), so nothing is sampled.
 
+use crate::forced_methods::{make_forced, ForceSpec};
 use crate::methods::make;
 use crate::propagate::{max_abs, unit_of, worse};
 use rigid3::{Body, Real, State};
@@ -40,6 +41,8 @@ pub struct Soak {
     pub m0: [f64; 3],
     /// Initial attitude.
     pub q0: [f64; 4],
+    /// Constant rotor momentum (a gyrostat through the forced step), if any.
+    pub rotor: Option<[f64; 3]>,
     /// Steps taken.
     pub steps: u64,
     /// Wall time of the run, s.
@@ -67,7 +70,9 @@ pub fn checkpoints(n: u64) -> Vec<u64> {
     v
 }
 
-/// Runs `method` in precision `T` for `steps` steps with attitude.
+/// Runs `method` in precision `T` for `steps` steps with attitude; with a `rotor`, the
+/// gyrostat through the forced step of `method` (crate::forced_methods), whose energy is
+/// `1/2 (m - h_r) . I^-1 (m - h_r)` (`|m|^2` and `R(q) m` as without).
 pub fn soak<T: Real + 'static>(
     method: &str,
     inertia: [f64; 3],
@@ -75,19 +80,34 @@ pub fn soak<T: Real + 'static>(
     q0: [f64; 4],
     h: f64,
     steps: u64,
+    rotor: Option<[f64; 3]>,
 ) -> Result<Soak, String> {
     // the numbers checked before the run, each refusal naming its flag (crate::inputs); the
     // attitude the run starts from is the unit one (the invariants are those of the state
     // stepped, not of a quaternion the integrator normalises on its first step)
     let f32 = T::EPSILON.to_f64() > 1e-10;
     crate::inputs::check_finite(&[("inertia", &inertia), ("m0", &m0), ("h", &[h])], f32)?;
+    if let Some(r) = rotor {
+        crate::inputs::check_finite(&[("rotor", &r)], f32)?;
+    }
     crate::inputs::check_inertia_range(&inertia, f32)?;
     crate::inputs::check_step(h, f32)?;
     crate::inputs::check_steps(steps as f64, "--steps")?;
     let q0 = crate::inputs::unit_quaternion(q0)?;
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
-    let mut it = make(method, body, T::from_f64(h))
-        .ok_or_else(|| format!("unknown method '{method}' (see `rigid3-lab methods`)"))?;
+    let mut it = match rotor {
+        None => make(method, body, T::from_f64(h))
+            .ok_or_else(|| format!("unknown method '{method}' (see `rigid3-lab methods`)"))?,
+        Some(r) => {
+            let spec = ForceSpec {
+                rotor: Some(r),
+                ..ForceSpec::default()
+            };
+            make_forced(method, body, T::from_f64(h), &spec).ok_or_else(|| {
+                format!("'{method}' takes no rotor at h = {h} (see `rigid3-lab methods`)")
+            })?
+        }
+    };
     let precision = if T::EPSILON.to_f64() > 1e-10 {
         "f32"
     } else {
@@ -103,10 +123,12 @@ pub fn soak<T: Real + 'static>(
     let inv_i = body.inertia().map(|x| 1.0 / x.to_f64());
     let i_unit = unit_of(max_abs(inv_i));
     let inv_i = inv_i.map(|x| x * i_unit);
+    let h_r = rotor.unwrap_or([0.0; 3]).map(|x| x * m_unit);
     let wide = |s: &State<T>| {
         let m = s.m.map(|x| x.to_f64() * m_unit);
         let c = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-        let e = 0.5 * (m[0] * m[0] * inv_i[0] + m[1] * m[1] * inv_i[1] + m[2] * m[2] * inv_i[2]);
+        let n = [m[0] - h_r[0], m[1] - h_r[1], m[2] - h_r[2]];
+        let e = 0.5 * (n[0] * n[0] * inv_i[0] + n[1] * n[1] * inv_i[1] + n[2] * n[2] * inv_i[2]);
         let p = State::new(m, s.q.map(Real::to_f64)).spatial_momentum();
         (c, e, p)
     };
@@ -166,6 +188,7 @@ pub fn soak<T: Real + 'static>(
         inertia,
         m0,
         q0,
+        rotor,
         steps: taken,
         seconds: t0.elapsed().as_secs_f64(),
         checkpoints: out,
@@ -176,7 +199,7 @@ pub fn soak<T: Real + 'static>(
 /// Prints a soak run as a table.
 pub fn print(r: &Soak) {
     println!(
-        "soak: {} {}, h = {}, {} steps (t = {}), {:.2} s; I = {:?}, m0 = {:?}, q0 = {:?}",
+        "soak: {} {}, h = {}, {} steps (t = {}), {:.2} s; I = {:?}, m0 = {:?}, q0 = {:?}{}",
         r.method,
         r.precision,
         r.h,
@@ -185,7 +208,10 @@ pub fn print(r: &Soak) {
         r.seconds,
         r.inertia,
         r.m0,
-        r.q0
+        r.q0,
+        r.rotor.map_or(String::new(), |h| format!(
+            ", rotor {h:?} (E the gyrostat's)"
+        ))
     );
     println!("max relative drift over the run so far (invariants in f64 from the state)");
     println!(

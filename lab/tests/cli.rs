@@ -423,6 +423,45 @@ fn soak_takes_the_scene_the_precision_and_the_end() {
     assert!(!ok && out.contains("unknown method"), "{out}");
 }
 
+/// `soak --rotor`: the gyrostat through the forced step, its energy
+/// `1/2 (m - h_r) . I^-1 (m - h_r)` (oracle: the conservation laws; in f64 the forced step
+/// holds `|m|^2` and `R(q) m` to round-off and keeps the energy to its splitting error,
+/// bounded; the free body's energy, which a gyrostat does not keep, would move by the wheels'
+/// share), and names its refusals.
+#[test]
+fn soak_takes_a_rotor_and_reports_the_gyrostats_energy() {
+    let v = run_json(&[
+        "soak",
+        "--json",
+        "--method",
+        "mv",
+        "--steps",
+        "20000",
+        "--rotor",
+        "0.3,-0.2,0.35",
+    ]);
+    assert_eq!(v["rotor"][2], 0.35);
+    let last = drifts(&v).last().unwrap().1;
+    assert!(last[0] <= 1e-13 && last[2] <= 1e-13, "{last:?}");
+    assert!(last[1] <= 1e-6, "{last:?}");
+    let (ok, out) = lab(&[
+        "soak", "--method", "mv", "--steps", "10", "--rotor", "1,nan,0",
+    ]);
+    assert!(!ok && out.contains("rotor"), "{out}");
+    let (ok, out) = lab(&["soak", "--method", "mv", "--steps", "10", "--rotor", "1,0"]);
+    assert!(!ok && out.contains("--rotor"), "{out}");
+    let (ok, out) = lab(&[
+        "soak",
+        "--method",
+        "nystrom4-pre10",
+        "--steps",
+        "10",
+        "--rotor",
+        "1,0,0",
+    ]);
+    assert!(!ok && out.contains("no rotor"), "{out}");
+}
+
 #[test]
 fn propagate_runs_the_nystrom_and_force_gradient_splittings_and_refuses_them_a_rotor() {
     // the heavy top of lab/refs/forced_refs.json, 100 steps to T = 10, against its reference

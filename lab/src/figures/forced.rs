@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 /// three wheels (`scripts/firmware`'s regime table, fixed step; QEMU counts instructions, not
 /// cycles): the forced methods the firmware flies.
 pub const CORTEX_M4F_FORCED: [(&str, &str, f64); 2] = [
-    ("forced mv (M4F)", "mv", 1020.0),
-    ("forced pre-mv4 (M4F)", "pre-mv4", 1243.0),
+    ("forced mv (M4F)", "mv", 1058.0),
+    ("forced pre-mv4 (M4F)", "pre-mv4", 1307.0),
 ];
 
 fn panel(title: String, x_label: &str, series: Vec<super::plot::Series>) -> Panel {
