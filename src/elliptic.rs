@@ -27,9 +27,10 @@
 //!   `R_F` and `Q = (r / 4)^(-1/6) max |A_0 - x_i|` for `R_J`, iteration stops when
 //!   `4^-n Q < |A_n|`, and Carlson's bound puts the truncation error of the fifth-order
 //!   series below `r` (relative); here `r = eps`, so the result is good to a few ulps plus the
-//!   rounding of the iteration (about `2 eps` per step, and 4 to 13 steps). At most
-//!   [`MAX_DUPLICATION`] steps; the worst real case (two arguments `1e-308` apart from the
-//!   third) needs about 15.
+//!   rounding of the iteration (about `2 eps` per step, and 4 to 13 steps for arguments
+//!   within a few decades of each other). At most [`MAX_DUPLICATION`] steps: `R_F` with two
+//!   arguments `1e-308` apart from the third needs about 15, `R_J` with `p` far above
+//!   `x, y, z` about `log_4(p / max(x, y, z)) + 5` (refused past about `1e35`).
 //! - `F(phi | m) = sin phi R_F(cos^2 phi, 1 - m sin^2 phi, 1)` and
 //!   `Pi(n; phi | m) = F + (n / 3) sin^3 phi R_J(cos^2 phi, 1 - m sin^2 phi, 1, 1 - n sin^2 phi)`
 //!   for `|phi| <= pi / 2` (DLMF 19.25.5, 19.25.14), extended quasi-periodically:
@@ -39,7 +40,6 @@
 //! Every function returns `None` for arguments outside its domain or not finite; none
 //! returns NaN or panics.
 
-use crate::integrator::power_of_two_scale;
 use crate::real::{c, sq, Real};
 
 /// Largest number of AGM stages (`c_N <= eps a_N` is reached in at most 15 for `f64`).
@@ -377,8 +377,16 @@ pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> Option<T> {
 /// `R_J(x, y, z, p) = 3/2 int_0^inf dt / ((t + p) sqrt((t + x)(t + y)(t + z)))`
 /// (DLMF 19.16.2), `x, y, z >= 0` with at most one zero, `p > 0`. Duplication algorithm
 /// (Carlson 1995, §2, in the form with `d_m`, `e_m` and `R_C(1, 1 + e_m)`, DLMF 19.36.ii);
-/// relative error a few ulps, for `p` far below or above `x, y, z` too (8 eps over
-/// `p / x` in `1e-13..1e13` against mpmath, tests/elliptic.rs).
+/// relative error a few ulps, for `p` far below or above `x, y, z` too (2.9 eps over
+/// `p / x` in `1e-30..1e20` against mpmath, tests/elliptic.rs; 4.5 eps over 3000 random
+/// argument sets spanning f32's range, in f32 and f64).
+///
+/// `None` outside the domain, and where the arguments span more than the precision can carry
+/// through the duplication's products of three square roots: after the best power-of-four
+/// scale, the largest above `2^80` (f64: `2^600`) with the median of `x, y, z` or some
+/// `max(p, x_i)` below `2^-80` (`2^-600`), or an argument scaled into the subnormals (17 % of
+/// those random f32 sets, spans of 1e40 and more; 2 % in f64); where `p` exceeds about
+/// `1e35 max(x, y, z)` ([`MAX_DUPLICATION`]); and where the result is not a normal number.
 #[must_use]
 pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     if !(x >= T::ZERO && y >= T::ZERO && z >= T::ZERO && p > T::ZERO) {
@@ -387,38 +395,79 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     if !(x.is_finite() && y.is_finite() && z.is_finite() && p.is_finite()) {
         return None;
     }
-    // homogeneous of degree -3/2: a largest argument outside `[2^-80, 2^80]` (f32; f64
-    // `[2^-600, 2^600]`) is brought into it by a power of four (exact, and so is its square root), where the products of three
-    // square roots neither overflow nor underflow (f32 returned `None` from `p = 7e12` with
-    // `x, y, z` near one, found writing tests/elliptic.rs); an argument the scale takes below
-    // the normal range would lose its digits, and is refused rather than answered wrongly
-    // (scaled into `[2^-16, 2^16]`, a first version answered `R_J(6e-10, 1e19, 3.4e7, 1e-30)`
-    // 0.34 % off in f32, found in review)
-    let range = if T::EPSILON.to_f64() > 1e-10 {
-        RJ_RANGE_F32
+    // homogeneous of degree -3/2, `R_J(u x, u y, u z, u p) = u^(-3/2) R_J(x, y, z, p)`. The
+    // duplication forms `(sqrt p + sqrt x_i)^2`, at least `max(p, x_i)`, and settles at about
+    // the median of `x, y, z` (its `lambda` is at least the geometric mean of the two larger),
+    // where it takes `A^(3/2)`; with products up to the largest argument's `^(3/2)`. All are
+    // normal and finite while the largest argument is at most `RANGE` and the median and each
+    // `max(p, x_i)` at least `1 / RANGE`. Where that fails the arguments are scaled by the
+    // power of four (exact, and so is its square root) that puts the largest just below
+    // `RANGE`, which leaves the most room below, and what still fails is refused. (Found in
+    // review: scaled by the largest argument alone, f32 `R_J(1e-30, 1.3e-30, 2.1e-30, 1e-10)`
+    // settled at subnormal products and came out 0.75 % off, `R_J(1, 9.8e-45, 1, 5.6e-45)`
+    // 0.1 %; unscaled, f32 returned `None` from `p = 7e12` with `x, y, z` near one.)
+    let (lo, hi) = if T::EPSILON.to_f64() > 1e-10 {
+        (c::<T>(RJ_RANGE_F32.recip()), c::<T>(RJ_RANGE_F32))
     } else {
-        RJ_RANGE_F64
+        (c::<T>(RJ_RANGE_F64.recip()), c::<T>(RJ_RANGE_F64))
     };
-    let value = match power_of_two_scale(x.max(y).max(z).max(p), range.recip(), range) {
-        Some((up, _)) => {
-            let scaled = [x * up, y * up, z * up, p * up];
-            let lost = [x, y, z, p]
-                .iter()
-                .zip(scaled.iter())
-                .any(|(&a, &b)| a != T::ZERO && !(b >= T::MIN_POSITIVE));
-            if lost {
-                return None;
-            }
-            let [xs, ys, zs, ps] = scaled;
-            carlson_rj_in_range(xs, ys, zs, ps)? * up * up.sqrt()
+    let safe = |x: T, y: T, z: T, p: T| {
+        let median = x.min(y).max(x.max(y).min(z));
+        x.max(y).max(z).max(p) <= hi
+            && median >= lo
+            && x.max(p) >= lo
+            && y.max(p) >= lo
+            && z.max(p) >= lo
+    };
+    let value = if safe(x, y, z, p) {
+        carlson_rj_in_range(x, y, z, p)?
+    } else {
+        let up = power_of_four_below(x.max(y).max(z).max(p), hi)?;
+        let (xs, ys, zs, ps) = (x * up, y * up, z * up, p * up);
+        // and no argument scaled into the subnormals, where it would lose digits (a tiny `p`
+        // sets `R_J`'s size, `p^(-1/2)`; f32 `R_J(1.7e17, 6e29, 213, 1.6e-38)` came out 1500
+        // ulps off, found by a sweep against mpmath): the scale must undo exactly
+        // (`b / up == a` for a power of four, unless `b` was rounded)
+        let kept = |a: T, b: T| b / up == a;
+        if !(safe(xs, ys, zs, ps) && kept(x, xs) && kept(y, ys) && kept(z, zs) && kept(p, ps)) {
+            return None;
         }
-        None => carlson_rj_in_range(x, y, z, p)?,
+        carlson_rj_in_range(xs, ys, zs, ps)? * up * up.sqrt()
     };
-    Some(value).filter(|v| v.is_finite())
+    // a result below the normal range has lost its relative accuracy (f32
+    // `R_J(1e30, 1e30, 1e30, 1e30)` came out 1e-45, 40 % off, found in review)
+    Some(value).filter(|v| v.is_finite() && *v >= T::MIN_POSITIVE)
 }
 
-/// A largest argument of [`carlson_rj`] outside `[1 / range, range]` is scaled into it (powers
-/// of four): there `(sqrt p + sqrt x)(sqrt p + sqrt y)(sqrt p + sqrt z)` and `A^(3/2)` stay
+/// The power of four `up` with `big * up` in `(hi / 4, hi]` (`None` where `T` has no such
+/// power): steps of `4^20`, then of 4, at most a few dozen multiplications.
+fn power_of_four_below<T: Real>(big: T, hi: T) -> Option<T> {
+    let coarse = c::<T>(1_099_511_627_776.0); // 2^40
+    let four = c::<T>(4.0);
+    let mut up = T::ONE;
+    let mut steps = 0;
+    while big * up > hi && steps < 256 {
+        up = if big * up > hi * coarse {
+            up / coarse
+        } else {
+            up / four
+        };
+        steps += 1;
+    }
+    while big * up * four <= hi && steps < 256 {
+        up = if big * up * coarse <= hi {
+            up * coarse
+        } else {
+            up * four
+        };
+        steps += 1;
+    }
+    (up > T::ZERO && up.is_finite() && big * up <= hi && big * up * four > hi).then_some(up)
+}
+
+/// [`carlson_rj`]'s largest argument stays below `RANGE`, its median of `x, y, z` and each
+/// `max(p, x_i)` above `1 / RANGE`, where
+/// `(sqrt p + sqrt x)(sqrt p + sqrt y)(sqrt p + sqrt z)`, `A^(3/2)` and their inverses are
 /// normal and finite (f32 overflows them from about `1e25`).
 const RJ_RANGE_F32: f64 = 1.2089258196146292e24; // 2^80
 const RJ_RANGE_F64: f64 = 4.149515568880993e180; // 2^600
@@ -426,10 +475,12 @@ const RJ_RANGE_F64: f64 = 4.149515568880993e180; // 2^600
 /// [`carlson_rj`] for finite arguments of a moderate size.
 fn carlson_rj_in_range<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     let a0 = (x + y + z + c::<T>(2.0) * p) / c::<T>(5.0);
-    // `e_n = 4^-3n (p - x)(p - y)(p - z) / d_n^2` factor by factor, each in `[-1, 1]`: the
-    // cube and `4^-3n` apart under- and overflowed (f32's `4^-3n` was zero after 25
-    // duplications, and `R_J(0.7, 1.3, 2.1, 1e17)` came out 4 % off; found in review)
-    let (dpx, dpy, dpz) = (p - x, p - y, p - z);
+    // `e_n = 4^-3n (p - x)(p - y)(p - z) / d_n^2` as `e_0 4^-n (4^-n d_0 / d_n)^2`, with `e_0`
+    // factor by factor (each in `[-1, 1]`): the cube and `4^-3n` apart under- and overflowed
+    // (f32's `4^-3n` was zero after 25 duplications, and `R_J(0.7, 1.3, 2.1, 1e17)` came out
+    // 4 % off; found in review). Every factor is moderate: while `p` dominates, `d_n` falls
+    // as `8^-n` and `e_n` stays near `e_0`, and it falls as `4^-3n` once they have met.
+    // (Factor by factor at every step cost `Exact`'s attitude step 51 counted flops.)
     let q = by_precision::<T>(17.96, 512.0)
         * (a0 - x)
             .abs()
@@ -442,6 +493,8 @@ fn carlson_rj_in_range<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     let mut sum = T::ZERO;
     let quarter = c::<T>(0.25);
     let mut done = false;
+    // `(e_0, d_0)`, from the first step
+    let mut first: Option<(T, T)> = None;
     for _ in 0..MAX_DUPLICATION {
         if q * f < a.abs() {
             done = true;
@@ -450,7 +503,15 @@ fn carlson_rj_in_range<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
         let (sx, sy, sz, sp) = (x.sqrt(), y.sqrt(), z.sqrt(), p.sqrt());
         let lam = sx * (sy + sz) + sy * sz;
         let d = (sp + sx) * (sp + sy) * (sp + sz);
-        let e = (f * dpx / sq(sp + sx)) * (f * dpy / sq(sp + sy)) * (f * dpz / sq(sp + sz));
+        let e = match first {
+            Some((e0, d0)) => e0 * f * sq(f * d0 / d),
+            None => {
+                let e0 =
+                    ((p - x) / sq(sp + sx)) * ((p - y) / sq(sp + sy)) * ((p - z) / sq(sp + sz));
+                first = Some((e0, d));
+                e0
+            }
+        };
         // `1 + e` from its positive terms ([`one_plus`]): `e` itself may round to -1 where
         // `1 + e` is `1e-8` (f32 `p / x = 1e-15` was refused)
         let one_plus_e = one_plus(e, sp, sx, sy, sz);

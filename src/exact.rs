@@ -81,7 +81,7 @@
 //!
 //! Cost (talk's case, `f64`; the README's flops and host-time tables): a momentum step 60
 //! counted flops, 7 `sqrt`, 17 libm calls (one `sn, cn, dn`), about 0.4 us on x86-64; a step
-//! with attitude 431 flops, 35 `sqrt`, 24 libm calls (plus one `R_J`, a `sin`/`cos`), about
+//! with attitude 444 flops, 35 `sqrt`, 24 libm calls (plus one `R_J`, a `sin`/`cos`), about
 //! 0.7 us; a fresh [`Exact::at`] about 1.5 us (set-up: sorting, `K`, `R_F` for the phase, `R_J`
 //! twice).
 

@@ -101,14 +101,30 @@ fn rc_equals_rf_with_two_equal_arguments() {
     assert!(worst <= 8.0);
 }
 
-/// Arguments so far apart that no power-of-two scale keeps them all normal (a product of
-/// three square roots overflows unscaled) are refused: a first version scaled the small ones
-/// to subnormals and answered `R_J(6e-10, 1e19, 3.4e7, 1e-30)` 0.34 % off in f32 (found in
-/// review). Oracle: the domain (every `Some` checked against mpmath above).
+/// Arguments so far apart that no power-of-four scale keeps the duplication's products normal
+/// are refused, not answered wrongly; the ones a scale keeps are answered. Found in review:
+/// scaled by the largest argument alone, f32 `R_J(1e-30, 1.3e-30, 2.1e-30, 1e-10)` settled at
+/// subnormal products (0.75 % off), and in steps of `2^80` scales that existed were missed
+/// (`R_J(1e-30, 1, 1, 1e30)` refused; in the table above now). Oracle: mpmath (f64 subnormal
+/// arguments, which the f32-valued table cannot hold), the domain, and that a result below
+/// the normal range has no relative accuracy.
 #[test]
-fn rj_refuses_arguments_no_scale_keeps_normal() {
-    assert_eq!(carlson_rj(1e-30f32, 1.0, 2.0, 1e30), None);
-    assert_eq!(carlson_rj(1e-300f64, 1.0, 2.0, 1e300), None);
+fn rj_answers_what_a_scale_keeps_normal_and_refuses_the_rest() {
+    // mpmath at 60 digits
+    for (args, reference) in [
+        ([1.0f64, 5e-323, 1.0, 2e-323], 5.684_791_406_522_584e161),
+        ([1e-290, 1e190, 1e190, 1e190], 2.356_194_490_192_344_7e-285),
+    ] {
+        let got = carlson_rj(args[0], args[1], args[2], args[3]).unwrap();
+        let err = (got - reference).abs() / reference / f64::EPSILON;
+        assert!(err <= 8.0, "{args:?}: {got:e}, {err:.1} eps");
+    }
+    // the settled level (p, or two of x, y, z) below the range after the best scale
+    assert_eq!(carlson_rj(1e-40f32, 1e-40, 1.0, 1e30), None);
+    assert_eq!(carlson_rj(1.0f64, 1.0, 1.0, 1e-300 * 1e-300), None);
+    // results below the normal range: refused (f32 `R_J(1e30, ...)` is 1.0e-45)
+    assert_eq!(carlson_rj(1e30f32, 1e30, 1e30, 1e30), None);
+    assert_eq!(carlson_rj(3e38f32, 3e38, 3e38, 3e38), None);
     // and never a non-finite value: the largest and smallest finite arguments
     for (x, p) in [(f32::MAX, f32::MIN_POSITIVE), (f32::MIN_POSITIVE, f32::MAX)] {
         assert!(carlson_rj(x, x, x, p).is_none_or(f32::is_finite));

@@ -54,7 +54,10 @@ for decade in list(range(13, 20)) + list(range(-30, -13, 2)):
         p = log_uniform(decade, decade + 1)
         rows.append(('rj', [x, y, z, p], mp.elliprj(x, y, z, p)))
 for args in ([0.7, 1.3, 2.1, 1e17], [0.7, 1.3, 2.1, 1e15], [1.0, 1.0, 1.0, 1e-15],
-             [5.98e-10, 1e19, 3.43e7, 1e-30], [0.0, 1.0, 2.0, 1e18], [1e-20, 1.0, 3.0, 1e-25]):
+             [5.98e-10, 1e19, 3.43e7, 1e-30], [0.0, 1.0, 2.0, 1e18], [1e-20, 1.0, 3.0, 1e-25],
+             # settling at subnormal products unscaled, and refused by a coarse scale
+             [1e-30, 1.3e-30, 2.1e-30, 1e-10], [1e-30, 1.3e-30, 2.1e-30, 1.0],
+             [1.0, 9.8e-45, 1.0, 5.6e-45], [1e-30, 1.0, 1.0, 1e30], [1e-30, 1e30, 1e30, 1.0]):
     args = [f32(a) for a in args]
     rows.append(('rj', args, mp.elliprj(*args)))
 
