@@ -30,7 +30,8 @@
 //!   rounding of the iteration (about `2 eps` per step, and 4 to 13 steps for arguments
 //!   within a few decades of each other). At most [`MAX_DUPLICATION`] steps: `R_F` with two
 //!   arguments `1e-308` apart from the third needs about 15, `R_J` with `p` far above
-//!   `x, y, z` about `log_4(p / max(x, y, z)) + 5` (refused past about `1e35`).
+//!   `x, y, z` about `log_4(p / median(x, y, z))` and a few more (refused from `p` about
+//!   `1e33` times the median, [`MAX_DUPLICATION`]).
 //! - `F(phi | m) = sin phi R_F(cos^2 phi, 1 - m sin^2 phi, 1)` and
 //!   `Pi(n; phi | m) = F + (n / 3) sin^3 phi R_J(cos^2 phi, 1 - m sin^2 phi, 1, 1 - n sin^2 phi)`
 //!   for `|phi| <= pi / 2` (DLMF 19.25.5, 19.25.14), extended quasi-periodically:
@@ -45,7 +46,8 @@ use crate::real::{c, sq, Real};
 /// Largest number of AGM stages (`c_N <= eps a_N` is reached in at most 15 for `f64`).
 pub const MAX_AGM: usize = 16;
 /// Largest number of duplication steps in Carlson's algorithms (`R_J` with `p` far above the
-/// others needs about `log_4(p / x) + 5`: 41 at `p / x = 1e22`, refused at 40).
+/// others needs about `log_4(p / median(x, y, z))` and a few more: refused from `p` about
+/// `1e33`-`1e35` times the median in f64, `1e35`-`1e37` in f32).
 pub const MAX_DUPLICATION: usize = 64;
 
 /// `(f32 value, f64 value)` of a precision-dependent constant, chosen by `T::EPSILON`.
@@ -384,9 +386,10 @@ pub fn carlson_rf<T: Real>(x: T, y: T, z: T) -> Option<T> {
 /// `None` outside the domain, and where the arguments span more than the precision can carry
 /// through the duplication's products of three square roots: after the best power-of-four
 /// scale, the largest above `2^80` (f64: `2^600`) with the median of `x, y, z` or some
-/// `max(p, x_i)` below `2^-80` (`2^-600`), or an argument scaled into the subnormals (17 % of
+/// `max(p, x_i)` below `2^-80` (`2^-600`), or an argument scaled into the subnormals (16 % of
 /// those random f32 sets, spans of 1e40 and more; 2 % in f64); where `p` exceeds about
-/// `1e35 max(x, y, z)` ([`MAX_DUPLICATION`]); and where the result is not a normal number.
+/// `1e33`-`1e37` times the median of `x, y, z` ([`MAX_DUPLICATION`]); and where the result
+/// is not a normal number.
 #[must_use]
 pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     if !(x >= T::ZERO && y >= T::ZERO && z >= T::ZERO && p > T::ZERO) {
@@ -439,8 +442,9 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     Some(value).filter(|v| v.is_finite() && *v >= T::MIN_POSITIVE)
 }
 
-/// The power of four `up` with `big * up` in `(hi / 4, hi]` (`None` where `T` has no such
-/// power): steps of `4^20`, then of 4, at most a few dozen multiplications.
+/// The power of four `up` with `big * up` in `(hi / 4, hi]`, or the largest `T` has where that
+/// is larger (`None` where none brings `big` under `hi`): steps of `4^20`, then of 4, at most
+/// a few dozen multiplications.
 fn power_of_four_below<T: Real>(big: T, hi: T) -> Option<T> {
     let coarse = c::<T>(1_099_511_627_776.0); // 2^40
     let four = c::<T>(4.0);
@@ -454,15 +458,23 @@ fn power_of_four_below<T: Real>(big: T, hi: T) -> Option<T> {
         };
         steps += 1;
     }
+    // upwards only as far as `T` has powers of four (a largest argument below 2^-48 in f32
+    // or 2^-423 in f64 wants more: capped, the caller's test decides; uncapped, all-tiny
+    // arguments such as f32 `R_J(1e-30, 1.3e-30, 2.1e-30, 1e-16)` were refused, found in
+    // review)
     while big * up * four <= hi && steps < 256 {
-        up = if big * up * coarse <= hi {
+        let next = if big * up * coarse <= hi && (up * coarse).is_finite() {
             up * coarse
         } else {
             up * four
         };
+        if !next.is_finite() {
+            break;
+        }
+        up = next;
         steps += 1;
     }
-    (up > T::ZERO && up.is_finite() && big * up <= hi && big * up * four > hi).then_some(up)
+    (up > T::ZERO && up.is_finite() && big * up <= hi).then_some(up)
 }
 
 /// [`carlson_rj`]'s largest argument stays below `RANGE`, its median of `x, y, z` and each
@@ -597,7 +609,12 @@ pub fn incomplete_f<T: Real>(phi: T, m: T) -> Option<T> {
 /// Incomplete elliptic integral of the third kind
 /// `Pi(n; phi | m) = int_0^phi dt / ((1 - n sin^2 t) sqrt(1 - m sin^2 t))` (DLMF 19.2.7),
 /// `0 <= m <= 1`, any real `phi` with `1 - n sin^2 phi > 0` (and `n < 1`, `m < 1` when
-/// `|phi| > pi / 2`). Through `R_F` and `R_J` (DLMF 19.25.14).
+/// `|phi| > pi / 2`). Through `R_F` and `R_J` (DLMF 19.25.14). Relative error a few ulps
+/// times the problem's own conditioning, except for large negative `n`, where `F` and
+/// `(n / 3) sin^3 phi R_J` nearly cancel (`Pi` far below `F`): 1.7e-4 relative in f32 at
+/// `n = -1e6`, `phi = 1`, `m = 0.5`, 1100 ulps in f64 at `n = -3e5` (found in review; DLMF
+/// 19.7.9's transformation to `N = (m - n) / (1 - n)` would avoid it; the exact solution does
+/// not take this path).
 #[must_use]
 pub fn incomplete_pi<T: Real>(n: T, phi: T, m: T) -> Option<T> {
     let (s, co, j) = reduce_amplitude(phi)?;

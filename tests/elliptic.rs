@@ -114,6 +114,9 @@ fn rj_answers_what_a_scale_keeps_normal_and_refuses_the_rest() {
     for (args, reference) in [
         ([1.0f64, 5e-323, 1.0, 2e-323], 5.684_791_406_522_584e161),
         ([1e-290, 1e190, 1e190, 1e190], 2.356_194_490_192_344_7e-285),
+        // all tiny: the scale f64 has is capped, not refused
+        ([1e-200, 1e-200, 1e-200, 1e-200], 1e300),
+        ([0.0, 1e-190, 1e-190, 1e-190], 2.356_194_490_192_345e285),
     ] {
         let got = carlson_rj(args[0], args[1], args[2], args[3]).unwrap();
         let err = (got - reference).abs() / reference / f64::EPSILON;

@@ -57,7 +57,9 @@ for args in ([0.7, 1.3, 2.1, 1e17], [0.7, 1.3, 2.1, 1e15], [1.0, 1.0, 1.0, 1e-15
              [5.98e-10, 1e19, 3.43e7, 1e-30], [0.0, 1.0, 2.0, 1e18], [1e-20, 1.0, 3.0, 1e-25],
              # settling at subnormal products unscaled, and refused by a coarse scale
              [1e-30, 1.3e-30, 2.1e-30, 1e-10], [1e-30, 1.3e-30, 2.1e-30, 1.0],
-             [1.0, 9.8e-45, 1.0, 5.6e-45], [1e-30, 1.0, 1.0, 1e30], [1e-30, 1e30, 1e30, 1.0]):
+             [1.0, 9.8e-45, 1.0, 5.6e-45], [1e-30, 1.0, 1.0, 1e30], [1e-30, 1e30, 1e30, 1.0],
+             # all tiny: a scale larger than f32 has, capped
+             [1e-25, 1e-25, 1e-25, 1e-25], [1e-30, 1.3e-30, 2.1e-30, 1e-16]):
     args = [f32(a) for a in args]
     rows.append(('rj', args, mp.elliprj(*args)))
 
