@@ -158,8 +158,7 @@ impl<T: Real> Splitting<T> {
             return Err(StepError::NonFinite);
         }
         let mut v = checked_momentum(m)?;
-        // h = 0 leaves the state as it is (the trait's promise), without the rotations
-        if n == 0 || self.h == T::ZERO {
+        if n == 0 {
             return Ok(());
         }
         let (h, hh, w) = (self.h, self.h * c::<T>(0.5), self.inv_i);
@@ -269,10 +268,6 @@ impl<T: Real> Integrator<T> for Splitting2<T> {
             return Err(StepError::NonFinite);
         }
         let v = checked_momentum(m)?;
-        // h = 0 leaves the state as it is
-        if self.h == T::ZERO {
-            return Ok(());
-        }
         let (h, hh) = (self.h, self.h * c::<T>(0.5));
         let [a, b, _] = self.axes;
         let v = rotate_momentum(v, a, self.w.x, hh);

@@ -27,7 +27,7 @@ pub const CORTEX_M4F: [(&str, &str, f64); 10] = [
     ("pre-mv8", "pre-mv8", 231.0),
     ("pre-mv10", "pre-mv10", 231.0),
     ("rk4", "rk4", 145.0),
-    ("split µmath", "splitting", 337.0),
+    ("split µmath", "splitting", 336.0),
     ("split sin_cos", "splitting", 423.0),
     ("split libm", "splitting", 585.0),
     ("seed-mv", "seed-mv", 1761.0),
