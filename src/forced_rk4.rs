@@ -12,6 +12,11 @@ use crate::torque::Torque;
 /// `q' = 1/2 q (x) (0, Omega)`, with `q` renormalised after each step.
 ///
 /// Not structure preserving: `|m|^2`, the energy and `R(q) m` drift at `O(h^4)` per unit time.
+/// Order 4 measured: the heavy top's energy error at `T = 10` falls at fourth order
+/// (tests/forced.rs `rk4_total_energy_is_the_heavy_tops_and_drifts_at_fourth_order`; a
+/// review measured 4.00-4.06 with time-dependent torques and a rotor); its cost per accuracy
+/// against the forced rigid3 methods is in the README's `forced-work` tables (heavy top:
+/// `1e-6` at `T = 10` for about 54,000 counted operations).
 /// Four torque evaluations a step (at `t`, twice at `t + h/2`, at `t + h`). The time is
 /// advanced by a plain sum. A step whose result overflows returns `Overflow` and leaves the
 /// state as it was.

@@ -353,7 +353,11 @@ impl<T: Real> RetimedMv<T> {
         }
     }
 
-    /// The DMV step `h'` whose exact time is `h` from momentum `m`.
+    /// The DMV step `h'` whose exact time is `h` from momentum `m`, solved to the resolution
+    /// of the exact time (a secant iteration on the phase the step gains against
+    /// [`crate::Exact`]): the steps it gives keep `m` within about 2e-15 of the exact
+    /// solution at `t = 10` on the talk's case in f64 (the README's work-precision and
+    /// demo tables).
     ///
     /// # Errors
     ///
