@@ -71,8 +71,8 @@ use crate::body::Body;
 use crate::error::StepError;
 use crate::forced_relative::{relative_wanted, RelativeStep, RotorRates};
 use crate::integrator::{
-    carries_rounding, checked_momentum, checked_state, compose_attitude, compose_attitude_carried,
-    homogeneous_scale, turn_in_space, Integrator, State,
+    carries_rounding, checked_attitude, checked_momentum, checked_state, compose_attitude,
+    compose_attitude_carried, homogeneous_scale, turn_in_space, Integrator, State,
 };
 use crate::linalg::{Quat, Vec3};
 use crate::real::{c, sq, Real};
@@ -1165,6 +1165,10 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
         let (m, q) = if turn.is_some() {
             checked_state(s)?
         } else {
+            // the attitude before the drift sees a kicked momentum: `PreMv` as a forced
+            // step's drift does not check it again, and would apply its pending change of `h`
+            // before `Mv` refused a zero `q` (f64 twins 6.7e-16 apart, found in review)
+            checked_attitude(Some(&s.q))?;
             (Vec3::from_array(s.m), Quat::from_array(s.q))
         };
         let tau0 = Vec3::from_array(tau_start);

@@ -261,6 +261,47 @@ fn a_refusal_that_changed_nothing_leaves_the_next_steps_as_they_were() {
     }
 }
 
+/// A `Forced` over `PreMv` with a torque given (`step_state_with`, no rotor) and a pending
+/// change of `h`, refused for a zero attitude: the twin that never saw the call steps the
+/// same, bit for bit. `PreMv` as a forced step's drift does not check the attitude again, and
+/// `step_state_with` without a rotor left it to the drift: the kicked momentum made `PreMv`
+/// rebuild before `Mv` refused the `q` (f64 twins 6.7e-16 apart after 1000 steps; found in
+/// review).
+#[test]
+fn a_refused_attitude_through_a_given_torque_leaves_pre_mv_as_it_was() {
+    use rigid3::{Forced, NoTorque};
+    let body = Body::<f64>::from_inertia([0.9145, 1.0981, 1.66]).unwrap();
+    for order in [4, 10] {
+        let make = || Forced::new(PreMv::new(body, 0.01, order).unwrap(), NoTorque);
+        let (mut a, mut twin) = (make(), make());
+        let start = State::new([0.4165, 0.9072, 0.0588], [1.0, 0.0, 0.0, 0.0]);
+        let (mut s, mut t) = (start, start);
+        for _ in 0..10 {
+            a.step_state_with(&mut s, [0.0; 3], [0.0; 3]).unwrap();
+            twin.step_state_with(&mut t, [0.0; 3], [0.0; 3]).unwrap();
+        }
+        a.set_step_size(0.02);
+        twin.set_step_size(0.02);
+        let mut bad = s;
+        bad.q = [0.0; 4];
+        let before = bad;
+        let kick = [1e-3, 0.0, 0.0];
+        assert_eq!(
+            a.step_state_with(&mut bad, kick, kick),
+            Err(StepError::NonFinite),
+            "order {order}"
+        );
+        assert_eq!(bad, before, "order {order}: the state moved on Err");
+        a.set_step_size(0.011);
+        twin.set_step_size(0.011);
+        for _ in 0..1000 {
+            a.step_state_with(&mut s, [0.0; 3], [0.0; 3]).unwrap();
+            twin.step_state_with(&mut t, [0.0; 3], [0.0; 3]).unwrap();
+        }
+        assert_eq!(s, t, "order {order}");
+    }
+}
+
 /// A torque given for the end of the step that is not finite was refused only after the
 /// drift had stepped (the end kick found it), so the drift's tracked root moved on to a step
 /// that never happened: in f32, a NaN end torque every 7th tick walked `|m|^2` by 2.6e-5 in

@@ -104,7 +104,11 @@ pub fn soak<T: Real + 'static>(
                 ..ForceSpec::default()
             };
             make_forced(method, body, T::from_f64(h), &spec).ok_or_else(|| {
-                format!("'{method}' takes no rotor at h = {h} (see `rigid3-lab methods`)")
+                if crate::forced_methods::FORCED_METHODS.contains(&method) {
+                    format!("'{method}' takes no rotor at h = {h} (see `rigid3-lab methods`)")
+                } else {
+                    format!("unknown method '{method}' (see `rigid3-lab methods`)")
+                }
             })?
         }
     };
@@ -123,7 +127,11 @@ pub fn soak<T: Real + 'static>(
     let inv_i = body.inertia().map(|x| 1.0 / x.to_f64());
     let i_unit = unit_of(max_abs(inv_i));
     let inv_i = inv_i.map(|x| x * i_unit);
-    let h_r = rotor.unwrap_or([0.0; 3]).map(|x| x * m_unit);
+    // the rotor the integrator steps: in f32 the f64 value rounded (unrounded, the reported
+    // energy took in the difference, 5 % of it on a cubesat, found in review)
+    let h_r = rotor
+        .unwrap_or([0.0; 3])
+        .map(|x| T::from_f64(x).to_f64() * m_unit);
     let wide = |s: &State<T>| {
         let m = s.m.map(|x| x.to_f64() * m_unit);
         let c = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];

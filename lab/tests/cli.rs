@@ -460,6 +460,10 @@ fn soak_takes_a_rotor_and_reports_the_gyrostats_energy() {
         "1,0,0",
     ]);
     assert!(!ok && out.contains("no rotor"), "{out}");
+    let (ok, out) = lab(&[
+        "soak", "--method", "nope", "--steps", "10", "--rotor", "1,0,0",
+    ]);
+    assert!(!ok && out.contains("unknown method"), "{out}");
 }
 
 #[test]
