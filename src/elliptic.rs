@@ -410,11 +410,8 @@ pub fn carlson_rj<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     // review: scaled by the largest argument alone, f32 `R_J(1e-30, 1.3e-30, 2.1e-30, 1e-10)`
     // settled at subnormal products and came out 0.75 % off, `R_J(1, 9.8e-45, 1, 5.6e-45)`
     // 0.1 %; unscaled, f32 returned `None` from `p = 7e12` with `x, y, z` near one.)
-    let (lo, hi) = if T::EPSILON.to_f64() > 1e-10 {
-        (c::<T>(RJ_RANGE_F32.recip()), c::<T>(RJ_RANGE_F32))
-    } else {
-        (c::<T>(RJ_RANGE_F64.recip()), c::<T>(RJ_RANGE_F64))
-    };
+    let hi = by_precision::<T>(RJ_RANGE_F32, RJ_RANGE_F64);
+    let lo = by_precision::<T>(RJ_RANGE_F32.recip(), RJ_RANGE_F64.recip());
     let safe = |x: T, y: T, z: T, p: T| {
         let median = x.min(y).max(x.max(y).min(z));
         x.max(y).max(z).max(p) <= hi
@@ -488,12 +485,6 @@ const RJ_RANGE_F64: f64 = 4.149515568880993e180; // 2^600
 /// [`carlson_rj`] for finite arguments of a moderate size.
 fn carlson_rj_in_range<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
     let a0 = (x + y + z + c::<T>(2.0) * p) / c::<T>(5.0);
-    // `e_n = 4^-3n (p - x)(p - y)(p - z) / d_n^2` as `e_0 4^-n (4^-n d_0 / d_n)^2`, with `e_0`
-    // factor by factor (each in `[-1, 1]`): the cube and `4^-3n` apart under- and overflowed
-    // (f32's `4^-3n` was zero after 25 duplications, and `R_J(0.7, 1.3, 2.1, 1e17)` came out
-    // 4 % off; found in review). Every factor is moderate: while `p` dominates, `d_n` falls
-    // as `8^-n` and `e_n` stays near `e_0`, and it falls as `4^-3n` once they have met.
-    // (Factor by factor at every step cost `Exact`'s attitude step 51 counted flops.)
     let q = by_precision::<T>(17.96, 512.0)
         * (a0 - x)
             .abs()
@@ -516,6 +507,13 @@ fn carlson_rj_in_range<T: Real>(x: T, y: T, z: T, p: T) -> Option<T> {
         let (sx, sy, sz, sp) = (x.sqrt(), y.sqrt(), z.sqrt(), p.sqrt());
         let lam = sx * (sy + sz) + sy * sz;
         let d = (sp + sx) * (sp + sy) * (sp + sz);
+        // `e_n = 4^-3n (p - x)(p - y)(p - z) / d_n^2` as `e_0 4^-n (4^-n d_0 / d_n)^2`, with
+        // `e_0` factor by factor (each in `[-1, 1]`): the cube and `4^-3n` apart under- and
+        // overflowed (f32's `4^-3n` was zero after 25 duplications, and
+        // `R_J(0.7, 1.3, 2.1, 1e17)` came out 4 % off; found in review). Every factor is
+        // moderate: while `p` dominates, `d_n` falls as `8^-n` and `e_n` stays near `e_0`, and
+        // it falls as `4^-3n` once they have met. (Factor by factor at every step cost
+        // `Exact`'s attitude step 51 counted flops.)
         let e = match first {
             Some((e0, d0)) => e0 * f * sq(f * d0 / d),
             None => {

@@ -974,11 +974,11 @@ pub struct Forced<T, D, F> {
     /// refuses the turned, non-finite input, and the step reports why ([`Forced::refusal`]). No
     /// test on the step's path: an early return there cost the M4F 68 instructions a step.
     turn: Option<Quat<T>>,
-    /// `I^-1` (for the relative splitting, crate::forced_relative, and for carrying f32's
-    /// roundings across the drift, [`across_drift`]) and the rotor's rates, for the relative
-    /// splitting, which a step with a rotor takes when the wheels turn the body well faster
-    /// than its own energy allows (set with the rotor), and whether the last step took it
-    /// (the choice's margin).
+    /// The body's `I^-1` (set with the drift: the body cannot change), for the relative
+    /// splitting (crate::forced_relative) and for carrying f32's roundings across the drift
+    /// ([`across_drift`]); the rotor's rates, for the relative splitting, which a step with a
+    /// rotor takes when the wheels turn the body well faster than its own energy allows (set
+    /// with the rotor); and whether the last step took it (the choice's margin).
     inv_i: Vec3<T>,
     rates: RotorRates<T>,
     relative_on: bool,
@@ -1030,13 +1030,12 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// `NonFinite` for a non-finite `h_r` and `Overflow` if `I^-1 h_r` overflows; the rotor is
     /// then left as it was.
     pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
-        let [r, w, inv_i] = Forcing::<T, F>::checked_rotor(self.drift.body(), h_r)?;
+        let [r, w, _] = Forcing::<T, F>::checked_rotor(self.drift.body(), h_r)?;
         let turn = half_turn(w, self.drift.step_size());
         self.forcing.rotor_moved |= r != self.forcing.rotor;
         self.forcing.rotor = r;
         self.forcing.rotor_w = w;
-        self.inv_i = inv_i;
-        self.rates = RotorRates::new(w, inv_i);
+        self.rates = RotorRates::new(w, self.inv_i);
         self.set_turn(turn);
         Ok(())
     }
@@ -1064,7 +1063,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// refused at the current step size.
     #[must_use]
     pub fn takes_relative_split(&self, m: &[T; 3], h_r: &[T; 3]) -> bool {
-        let inv_i = self.drift.body().inverse_inertia();
+        let inv_i = self.inv_i;
         let h_r = Vec3::from_array(*h_r);
         let w = h_r.mul_elem(inv_i);
         matches!(half_turn(w, self.drift.step_size()), Ok(Some(_)))

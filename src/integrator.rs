@@ -205,14 +205,20 @@ pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>),
     if !m.is_finite() {
         return Err(StepError::NonFinite);
     }
-    let q = Quat::from_array(s.q);
-    let n2 = q.norm2();
+    Ok((m, checked_quat(&s.q)?))
+}
+
+/// The attitude of [`checked_state`]: `q` as it is within `2^-10` of unit length, else
+/// normalised, and `NonFinite` for a non-finite or zero one.
+#[inline(always)]
+fn checked_quat<T: Real>(q: &[T; 4]) -> Result<Quat<T>, StepError> {
+    let quat = Quat::from_array(*q);
     // first: it fails for a NaN or infinite |q|^2, so the loop's state passes with one
     // comparison (the two tests below cost about 20 instructions a step on the M4F)
-    if (n2 - T::ONE).abs() <= T::from_f64(1.0 / 1024.0) {
-        return Ok((m, q));
+    if (quat.norm2() - T::ONE).abs() <= T::from_f64(1.0 / 1024.0) {
+        return Ok(quat);
     }
-    Ok((m, unit_or_refused(&s.q)?))
+    unit_or_refused(q)
 }
 
 /// [`checked_state`]'s test of the attitude alone (the momentum is checked by the set-up it
@@ -225,13 +231,10 @@ pub(crate) fn checked_state<T: Real>(s: &State<T>) -> Result<(Vec3<T>, Quat<T>),
 /// cost the M4F's `PreMv` step 30-38 instructions in the loop's regimes).
 #[inline(always)]
 pub(crate) fn checked_attitude<T: Real>(q: Option<&[T; 4]>) -> Result<(), StepError> {
-    if let Some(q) = q {
-        let n2 = Quat::from_array(*q).norm2();
-        if !((n2 - T::ONE).abs() <= T::from_f64(1.0 / 1024.0)) {
-            unit_or_refused(q)?;
-        }
+    match q {
+        Some(q) => checked_quat(q).map(|_| ()),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// [`checked_state`] with the attitude at unit length to the last bit: where an exact

@@ -646,7 +646,6 @@ impl<T: Real> PreMv<T> {
         Ok(())
     }
 
-    /// The carried step ([`Integrator::step_state_carrying`]) through `Mv`'s.
     /// [`Integrator::step_state`], with the attitude checked before a pending change is
     /// applied where `check_q` (false: the caller has checked it).
     #[inline(always)]
@@ -666,6 +665,7 @@ impl<T: Real> PreMv<T> {
         Ok(())
     }
 
+    /// The carried step ([`Integrator::step_state_carrying`]) through `Mv`'s.
     fn step_state_carried(
         &mut self,
         s: &mut State<T>,

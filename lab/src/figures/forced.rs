@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 /// cycles): the forced methods the firmware flies.
 pub const CORTEX_M4F_FORCED: [(&str, &str, f64); 2] = [
     ("forced mv (M4F)", "mv", 1058.0),
-    ("forced pre-mv4 (M4F)", "pre-mv4", 1298.0),
+    ("forced pre-mv4 (M4F)", "pre-mv4", 1300.0),
 ];
 
 fn panel(title: String, x_label: &str, series: Vec<super::plot::Series>) -> Panel {
