@@ -5,7 +5,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rigid3::{
-    Body, ConstantTorque, Forced, Gravity, GravityGradient, Integrator, Mv, NoTorque, Real, State,
+    Body, ConstantTorque, Forced, Gravity, GravityGradient, Integrator, Mv, NoTorque, PreMv, Real,
+    State,
 };
 
 #[path = "../tests/common/cases.rs"]
@@ -182,6 +183,41 @@ fn bench_forced<T: Real + 'static>(c: &mut Criterion, ty: &str) {
     group.finish();
 }
 
+/// A step with its tangent map (`step_with_jacobian`, for an EKF's covariance) against the
+/// plain step, with attitude, along one trajectory (`Mv` and `PreMv` order 4, talk's case,
+/// `h = 0.01`).
+fn bench_jacobian(c: &mut Criterion) {
+    let body = Body::<f64>::from_mass_matrix(TALK_J).unwrap();
+    let s0 = State::new(TALK_M0, [1.0, 0.0, 0.0, 0.0]);
+    let h = 0.01;
+    let mut group = c.benchmark_group("jacobian-f64");
+    let mut mv = Mv::new(body, h);
+    let mut s = s0;
+    group.bench_function("mv step_state", |b| {
+        b.iter(|| {
+            let _ = mv.step_state(black_box(&mut s));
+        })
+    });
+    let mut mv = Mv::new(body, h);
+    let mut s = s0;
+    group.bench_function("mv step_with_jacobian", |b| {
+        b.iter(|| black_box(mv.step_with_jacobian(black_box(&mut s)).ok()))
+    });
+    let mut pre = PreMv::new(body, h, 4).unwrap();
+    let mut s = s0;
+    group.bench_function("pre-mv4 step_state", |b| {
+        b.iter(|| {
+            let _ = pre.step_state(black_box(&mut s));
+        })
+    });
+    let mut pre = PreMv::new(body, h, 4).unwrap();
+    let mut s = s0;
+    group.bench_function("pre-mv4 step_with_jacobian", |b| {
+        b.iter(|| black_box(pre.step_with_jacobian(black_box(&mut s)).ok()))
+    });
+    group.finish();
+}
+
 fn steps(c: &mut Criterion) {
     bench_momentum::<f64>(c, "f64");
     bench_momentum::<f32>(c, "f32");
@@ -189,6 +225,7 @@ fn steps(c: &mut Criterion) {
     bench_state::<f32>(c, "f32");
     bench_forced::<f64>(c, "f64");
     bench_forced::<f32>(c, "f32");
+    bench_jacobian(c);
 }
 
 criterion_group! {

@@ -46,7 +46,14 @@
 //!
 //! `sigma = +1` (first case) or `-1`, `S(tau) = sn^3 R_J(cn^2, dn^2, 1, 1 - nu sn^2) + 2 j R_J(0, 1-k^2,
 //! 1, 1 - nu)` for `tau = 2 j K + tau_r`, `|tau_r| <= K` (this is `(Pi(nu; am tau) - tau) 3/nu`,
-//! DLMF 19.25.14). `Q = Rz(pi) Ry(-theta) Rz(-chi)` with `(theta, chi)` the polar angles of `y`
+//! DLMF 19.25.14). Where `-nu > 1` (a nearly symmetric body: `-nu` grows without bound as two
+//! moments approach) `S` is nearly `-3 tau / nu`, a large linear part that cancels against
+//! `s / i_p`; there the two linear parts are taken together exactly,
+//! `psi(s) - psi(0) = s L + sigma (1-i_a)/(i_a omega) [Pi(nu; am tau) - Pi(nu; am tau_0)]`
+//! with `L = 1` (first case) or `1 / i_a`, and `Pi` from Carlson's change of parameter of
+//! `R_J`, three terms that do not cancel. The phase `tau = omega s + tau_0` is rounded
+//! relative to `tau_0`, which is a long time when `omega` is small, so the angle's part moves
+//! by its slope times what the sum dropped (TwoSum). `Q = Rz(pi) Ry(-theta) Rz(-chi)` with `(theta, chi)` the polar angles of `y`
 //! about `d`; the quaternion is built from half angles, with `chi` lifted continuously
 //! through the reduction by `2K`, so `q(t)` is continuous in `t` and `q(0) = q0`.
 //!
@@ -65,28 +72,32 @@
 //!   and the error is that of an ulp's change of the input (`E` `1e-8` off the separatrix:
 //!   `1e-9` at `t = 30`, as much as one ulp of `m0` moves the true solution; in f32 errors of
 //!   order one by then); exactly on it (`k = 1`) [`Exact::at`] and [`crate::Orbit::at`] refuse
-//!   with `StepTooLarge` from about `t = 1e4` (`R_J`'s arguments underflow), while the
-//!   momentum goes on;
-//! - for a nearly symmetric body with `m` near the plane of its two nearly equal moments, and
-//!   for thin rods, the attitude's angle is a small difference of two large terms (the
-//!   characteristic `nu` of `R_J` is large): attitude errors of `6e-12` for
-//!   `I = (1, 2 - 1e-8, 2)`, `m0 = (1e-5, 1, 1)` and `3e-11` for a rod with
-//!   `I_min / I_max = 3e-6`, where an ulp of the input moves the solution by `5e-17` and
-//!   `5e-13`, and growing as the two moments approach: `3.4e-7` at `t = 10` (`8e-8` at
-//!   `t = 1`) for `I = (0.1, 2, 2 + 1 ulp)`, `m0 = (1e-10, 0.995, 0.1)`, and `9.8e-9` for
-//!   `I = (1, 2, 2 + 1e-15)`, `m0 = (0, 0.6, 0.8)` at `t = 7` (a review against RK4), where
-//!   the true attitude moves `5.6e-16` for an ulp of the input; the momentum keeps its bound.
-//!   Not fixed (a transformation of `R_J` for large `nu` would be needed); for such a body
-//!   take the symmetric one (equal moments: exact there) or a DMV method.
+//!   with `StepTooLarge` once the orbit's approach to the middle axis underflows, from about
+//!   `lambda t = 370` in f64 (`lambda = |m| sqrt((1/I_a - 1/I_b)(1/I_b - 1/I_c))`: `t = 1755`
+//!   for `I = (2, 3, 4)`, `m0 = (1, 0.5, sqrt 2)`; a review found the `t = 1e4` stated before
+//!   wrong), while the momentum goes on;
+//! - nearly symmetric bodies keep the bounds (tests/exact.rs
+//!   `nearly_symmetric_bodies_keep_their_attitude`, against RK4: at most `4.5e-13` in f64 over
+//!   seven bodies down to two moments an ulp apart, `I = (1e-8, 2, 2 + 1 ulp)` included, and
+//!   `3.2e-7` in f32 for moments `1e-4` apart). Before the angle's linear parts were taken
+//!   together (above) they cancelled: `1e-3` off for `I = (1e-8, 2, 2 + 1 ulp)` at every `t`
+//!   (`3e-4` already at `t = 1e-6`), `3.4e-7` for `I = (0.1, 2, 2 + 1 ulp)` at `t = 10`, and
+//!   `1.6e-4` in f32 for `I = (1, 2, 2.0001)` at `t = 0.01` (found in reviews);
+//! - thin rods (`I_min / I_max` down to `1e-6`) are within the bounds or their own
+//!   sensitivity to an ulp of a moment (tests/exact.rs `thin_rods_keep_their_attitude`:
+//!   `2.3e-14` to `1.7e-11` against RK4, where one ulp of `I_max` moves the solution by `6e-12`
+//!   to `3e-9`; before, `2.6e-9` for `I = (1e-6, 1 - 1e-6, 1)`, `m0 = (1e-7, 0.8, 0.6)` at
+//!   `t = 10`, found in review).
 //!
 //! Cost (talk's case, `f64`; the README's flops and host-time tables): a momentum step 60
 //! counted flops, 7 `sqrt`, 17 libm calls (one `sn, cn, dn`), about 0.4 us on x86-64; a step
-//! with attitude 444 flops, 35 `sqrt`, 24 libm calls (plus one `R_J`, a `sin`/`cos`), about
+//! with attitude 462 flops, 35 `sqrt`, 25 libm calls (plus one `R_J`, and where `-nu > 1`, as
+//! on the talk's case, one `R_C`; a `sin`/`cos`), about
 //! 0.7 us; a fresh [`Exact::at`] about 1.5 us (set-up: sorting, `K`, `R_F` for the phase, `R_J`
 //! twice).
 
 use crate::body::Body;
-use crate::elliptic::{carlson_rf, carlson_rj, Jacobi};
+use crate::elliptic::{carlson_rf, carlson_rj, pi_negative, Jacobi};
 use crate::error::StepError;
 use crate::integrator::{
     checked_momentum, checked_state, checked_unit_state, compose_attitude, Integrator, State,
@@ -168,11 +179,15 @@ struct Tumble<T> {
     tau0: T,
     /// Separatrix orbit with `y_p < 0`: the solution is the one with `-alpha`, `-beta`.
     half_turn: bool,
-    /// `nu`, `R_J(0, 1 - k^2, 1, 1 - nu)`, `sigma (1 - i_a)/(i_a omega) nu / 3`, `1 / i_p`.
+    /// `nu`; whether the angle takes `Pi` itself (`-nu > 1`, [`Tumble::angle_part`]); the
+    /// angle's part at a whole period (`R_J(0, 1 - k^2, 1, 1 - nu)`, or `Pi(nu)`), its
+    /// coefficient (`sigma (1 - i_a)/(i_a omega) nu / 3`, or `sigma (1 - i_a)/(i_a omega)`)
+    /// and its rate in scaled time (`1 / i_p`, or `1 / i_p - sigma (1 - i_a) / i_a`).
     nu: T,
-    rj_complete: T,
+    pi_form: bool,
+    complete: T,
     coef: T,
-    inv_ip: T,
+    lin: T,
     head0: Quat<T>,
     s0: T,
 }
@@ -200,11 +215,13 @@ struct Case<T> {
 }
 
 /// The state of a tumbling trajectory at phase `tau`: unit momentum in `(p, r, d)`, the
-/// quaternion `qz(chi) qy(theta)` and `S(tau)`.
+/// quaternion `qz(chi) qy(theta)`, the angle's part `S(tau)` or `Pi(nu; am tau)`
+/// ([`Tumble::angle_part`]) and its derivative in `tau`.
 struct Phase<T> {
     y: Vec3<T>,
     head: Quat<T>,
     s: T,
+    slope: T,
 }
 
 /// `i^k`, `k` mod 4, as `(cos, sin)` of `k pi / 2`.
@@ -230,6 +247,7 @@ impl<T: Real> Tumble<T> {
                 y,
                 head: Quat::from_array([T::ONE, T::ZERO, T::ZERO, T::ZERO]),
                 s: T::ZERO,
+                slope: T::ZERO,
             });
         }
         let half = c::<T>(0.5);
@@ -256,13 +274,44 @@ impl<T: Real> Tumble<T> {
             y: cchi * sth,
             z: schi * cth,
         };
-        let s = if self.nu == T::ZERO {
-            T::ZERO
+        let (s, slope) = self.angle_part(tr, j, (sn, cn, dn))?;
+        Some(Phase { y, head, s, slope })
+    }
+
+    /// The part of the attitude's angle that is not linear in time, at the phase
+    /// `tau = 2 j K + tau_r` (`sn, cn, dn` of `tau_r`), and its derivative in `tau`.
+    ///
+    /// `psi(s) - psi(0) = s / i_p + sigma (1 - i_a)/(i_a omega) (Pi(nu; am tau) - tau)` up to
+    /// the value at `tau_0`. With `N = -nu >= 0` small, `Pi - tau = (nu / 3) S(tau)`,
+    /// `S = sn^3 R_J(cn^2, dn^2, 1, 1 + N sn^2) + 2 j R_J(0, 1 - k^2, 1, 1 + N)`, a term with no
+    /// large linear part. With `N` large (a nearly symmetric body, `N = 1e16` for two moments
+    /// an ulp apart), `Pi` is `O(N^-1/2)` and `Pi - tau` nearly `-tau`: its linear part,
+    /// `sigma (1 - i_a)/(i_a omega) tau`, then cancels against `s / i_p` (and so came from a
+    /// rounded `tau` and a rounded `R_J`: attitudes `1e-3` off for `I = (1e-8, 2, 2 + 1 ulp)`,
+    /// `1.6e-4` in f32 for `I = (1, 2, 2.0001)` at `t = 0.01`, found in review). For `N > 1`
+    /// the linear parts are taken together exactly (`1 / i_p - sigma (1 - i_a) / i_a` is `1`
+    /// about the largest axis, `1 / i_a` about the smallest) and `Pi` itself comes from the
+    /// change of parameter of `R_J`, three terms that do not cancel
+    /// (crate::elliptic::pi_negative).
+    fn angle_part(&self, tr: T, j: T, (sn, cn, dn): (T, T, T)) -> Option<(T, T)> {
+        if self.nu == T::ZERO {
+            return Some((T::ZERO, T::ZERO));
+        }
+        let big_n = -self.nu;
+        let sn2 = sq(sn);
+        let rate = T::ONE / (T::ONE + big_n * sn2);
+        let two_j = c::<T>(2.0) * j;
+        if self.pi_form {
+            let kc2 = self.jac.complement();
+            let pi = pi_negative(big_n, tr, sn, cn, sq(dn), kc2)?;
+            Some((pi + two_j * self.complete, rate))
         } else {
-            let rj = carlson_rj(sq(cn), sq(dn), T::ONE, T::ONE - self.nu * sq(sn))?;
-            sq(sn) * sn * rj + c::<T>(2.0) * j * self.rj_complete
-        };
-        Some(Phase { y, head, s })
+            let rj = carlson_rj(sq(cn), sq(dn), T::ONE, T::ONE + big_n * sn2)?;
+            Some((
+                sn2 * sn * rj + two_j * self.complete,
+                c::<T>(3.0) * sn2 * rate,
+            ))
+        }
     }
 }
 
@@ -332,13 +381,21 @@ impl<T: Real> Orbit<T> {
                 Ok((*m, q))
             }
             Motion::Tumbling(tb) => {
-                let tau = tb.omega * s + tb.tau0;
+                let ws = tb.omega * s;
+                let tau = ws + tb.tau0;
                 let ph = tb.phase(tau, q0.is_some()).ok_or(StepError::StepTooLarge)?;
                 let m = tb.frame.body(ph.y).scale(self.norm);
                 let q = match q0 {
                     None => None,
                     Some(q0) => {
-                        let dpsi = s * tb.inv_ip + tb.coef * (ph.s - tb.s0);
+                        // what the phase's sum rounded away (TwoSum): m, the head and the
+                        // angle's part are taken at the rounded phase, the angle's linear part
+                        // at `s` itself, so the part moves by its slope times this (an ulp of
+                        // `tau_0` is a long time when `omega` is small: attitudes 3e-4 off at
+                        // `t = 1e-6`, found in review)
+                        let back = tau - ws;
+                        let lost = (ws - (tau - back)) + (tb.tau0 - back);
+                        let dpsi = s * tb.lin + tb.coef * ((ph.s - tb.s0) + ph.slope * lost);
                         let a = dpsi * c::<T>(0.5);
                         let z = Quat::from_array([a.cos(), T::ZERO, T::ZERO, a.sin()]);
                         let tail = ph.head.conjugate();
@@ -467,10 +524,22 @@ impl<T: Real> Tumble<T> {
         } else {
             c::<T>(2.0) * jac.complete() * T::ONE.copysign(sn0) - f
         };
-        let rj_complete = if nu == T::ZERO || separatrix || !attitude {
+        // the angle's form (Tumble::angle_part) and its whole-period part
+        let pi_form = -nu > T::ONE;
+        let complete = if nu == T::ZERO || separatrix || !attitude {
             T::ZERO
+        } else if pi_form {
+            pi_negative(-nu, jac.complete(), T::ONE, T::ZERO, kc2, kc2)?
         } else {
             carlson_rj(T::ZERO, kc2, T::ONE, T::ONE - nu)?
+        };
+        let rate = sigma * (T::ONE - ia) / (ia * omega);
+        let (coef, lin) = if pi_form {
+            // 1 / i_p - sigma (1 - i_a) / i_a: 1 about the largest axis (i_p = i_a), and
+            // 1 / i_a about the smallest (i_p = 1)
+            (rate, if sigma > T::ZERO { T::ONE } else { T::ONE / ia })
+        } else {
+            (rate * nu / c::<T>(3.0), T::ONE / ip)
         };
         let mut tb = Self {
             frame,
@@ -482,9 +551,10 @@ impl<T: Real> Tumble<T> {
             tau0,
             half_turn,
             nu,
-            rj_complete,
-            coef: sigma * (T::ONE - ia) / (ia * omega) * nu / c::<T>(3.0),
-            inv_ip: T::ONE / ip,
+            pi_form,
+            complete,
+            coef,
+            lin,
             head0: Quat::from_array([T::ONE, T::ZERO, T::ZERO, T::ZERO]),
             s0: T::ZERO,
         };
@@ -511,7 +581,7 @@ impl<T: Real> Tumble<T> {
 /// tests/exact.rs): `|m - m_ref| <= 3.2e-14 max(1, |m_ref|)`, `|q - q_ref| <= 3.7e-14`; f32
 /// within `1e-5` of f64's solution for rotations up to about 200 rad, then about `eps / 2`
 /// per radian turned. Worse, as [`Exact::at`] states: near the separatrix (as sensitive as the
-/// orbit itself), and the attitude of a nearly symmetric body or a thin rod (up to `3.4e-7`).
+/// orbit itself), and on a thin rod as much as an ulp of its moments moves the solution.
 #[derive(Clone, Debug)]
 pub struct Exact<T> {
     body: Body<T>,
@@ -552,17 +622,19 @@ impl<T: Real> Exact<T> {
     /// 200 rad (or as much as one f32 ulp of the input moves the motion, where that is more),
     /// then about `eps / 2` per radian turned. Near the separatrix (`E` near
     /// `|m|^2 / (2 I_mid)`) the error is that of an ulp's change of the input (the orbit is
-    /// that sensitive); for a nearly symmetric body with `m` near the plane of its two nearly
-    /// equal moments, and for thin rods, the attitude's angle is a small difference of large
-    /// terms: `6e-12` at `I = (1, 2 - 1e-8, 2)`, up to `3.4e-7` at `I = (0.1, 2, 2 + 1 ulp)`
-    /// (take the symmetric body, exact there, or a DMV method). Exactly on the separatrix it
-    /// refuses with `StepTooLarge` from about `t = 1e4`.
+    /// that sensitive); nearly symmetric bodies keep the bounds (two moments an ulp apart
+    /// included: at most `4.5e-13` in f64 against RK4); for a thin rod see the module docs
+    /// (within its own sensitivity to an ulp of a moment). Exactly on the separatrix it refuses with `StepTooLarge` once the orbit's
+    /// approach to the middle axis underflows, from about `lambda t = 370` in f64 (`lambda =
+    /// |m| sqrt((1/I_a - 1/I_b)(1/I_b - 1/I_c))`, its rate: `t = 1755` for `I = (2, 3, 4)`,
+    /// `m0 = (1, 0.5, sqrt 2)`), while [`Exact::momentum_at`] goes on.
     ///
     /// # Errors
     ///
     /// [`StepError::NonFinite`] for a non-finite state or `t` or a zero quaternion,
     /// [`StepError::StepTooLarge`] when the phase `omega t` is past what the float type can
-    /// represent (about `1 / (4 eps)` periods), [`StepError::Overflow`] when the result would
+    /// represent (about `1 / (8 eps)` periods of the momentum: `5.6e14` in f64, `1.05e6` in
+    /// f32), [`StepError::Overflow`] when the result would
     /// overflow, and [`StepError::Degenerate`] when the elliptic functions cannot be
     /// evaluated for this orbit.
     pub fn at(body: &Body<T>, s0: &State<T>, t: T) -> Result<State<T>, StepError> {

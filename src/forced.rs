@@ -1383,7 +1383,8 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Integrator<T> for Forced<T, D, F> 
     /// (`h |I^-1 h_r| > 8`) the steps return `StepTooLarge`, state and time untouched, until
     /// `h` or the rotor comes back. A zero `h` pauses the drift (as its own docs say); the
     /// kicks then apply no torque, but in f32 the first paused step adds the carried sub-ulp
-    /// remainder of earlier kicks ([`Forced`]'s error model), which can move `m` by an ulp.
+    /// remainder of earlier kicks and wheel turns ([`Forced`]'s error model), which can move
+    /// `m` by an ulp, and with wheels `q` too (a first-use trial: about `1e-7` rad).
     fn set_step_size(&mut self, h: T) {
         self.drift.set_step_size(h);
         self.set_turn(half_turn(self.forcing.rotor_w, h));

@@ -130,8 +130,8 @@ pub trait Integrator<T> {
     /// `h` (not finite, or past the method's limit) is refused by the next step (`Err`, state
     /// untouched), and by every step after it until a valid `h` is set. A negative `h` steps
     /// backwards in time and `h = 0` leaves the state as it is (the forced integrators in f32
-    /// may add the sub-ulp remainder their kicks carry, and they normalise a `q` more than
-    /// `2^-10` off unit length): a loop that sets a measured
+    /// may add the sub-ulp remainder their kicks and wheel turns carry, an ulp of `m` or `q`,
+    /// and they normalise a `q` more than `2^-10` off unit length): a loop that sets a measured
     /// `dt` each tick should refuse a non-positive or implausible `dt` itself (a timer that
     /// wrapped) and keep the last good one.
     fn set_step_size(&mut self, h: T);

@@ -39,7 +39,8 @@
 //! crate; cited as "docs/MATH.md §n"). Costs (counted flops, host time, Cortex-M4F
 //! instructions, code size, stack) are measured, with the commands that measure them, in the
 //! README's tables: `Mv` takes 78 counted flops per free-running momentum step and 153 with
-//! attitude (talk's case, `h = 0.1`; about 210 and 270 on a step after an outside change).
+//! attitude (talk's case, `h = 0.1`; 286–303 with attitude on a step after an outside change,
+//! `rigid3-lab flops`).
 //!
 //! ## Forced motion: torques, reaction wheels, potentials
 //!

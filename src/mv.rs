@@ -239,8 +239,9 @@ fn dropped_by_sum<T: Real>(m: Vec3<T>, added: Vec3<T>, next: Vec3<T>) -> Vec3<T>
 /// rad at 1.3e-1 rad/s, 5.7e-6 at 0.1 rad/s and 200 Hz (was 9.1e-5;
 /// tests/mv.rs `f32_slow_turns_keep_their_phase`, against f64). The attitude hold skips turns below `8 eps`, the noise of measuring
 /// `R(q) m` in f32: taken at every hold they drove the phase about the spatial momentum by
-/// 8e-6 rad in the same run. Cost on the M4F: 18 instructions of the 188 of a momentum step,
-/// 49 of the 370 with attitude. In f64 the rounding costs about 1e-13 rad there, and nothing
+/// 8e-6 rad in the same run. Cost on the M4F, measured when it was added: 18 instructions of
+/// the 188 of a momentum step then, 49 of the 370 with attitude (the steps are 191 and 369
+/// now, `scripts/firmware`). In f64 the rounding costs about 1e-13 rad there, and nothing
 /// is carried (the branches are constants, folded away).
 ///
 /// Accuracy: agrees with the general Cardoso–Leite solver to about `1e-15` per step (f64);

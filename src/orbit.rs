@@ -70,7 +70,8 @@ impl<T: Real> Orbit<T> {
     /// # Errors
     ///
     /// `NonFinite` for a non-finite `t`; `StepTooLarge` when `t` is so large that the phase
-    /// (`omega t`, more than `1 / (4 eps)` periods) has no significant digit left; `Degenerate`
+    /// (`omega t`, more than `1 / (8 eps)` periods of the momentum) has no significant digit
+    /// left; `Degenerate`
     /// if the result is not finite.
     pub fn at(&self, t: T) -> Result<State<T>, StepError> {
         if !t.is_finite() {

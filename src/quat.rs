@@ -109,9 +109,11 @@ impl<T: Real> Quaternion<T> {
     /// `2 atan2(|u|, |w|)`, `u = (x, y, z)`, accurate to a few ulps at every angle (where
     /// `2 acos(w)` loses half the digits of a small angle), and the axis `u / |u|`; a
     /// quaternion that is not unit is taken as its direction (`|u|` is formed from the
-    /// components scaled by the largest where its square would leave the normal range, so
+    /// components scaled by the largest where its square would leave the normal range, and
+    /// `q` divided by its largest component where `|u|` overflows or `angle / |u|` would, so
     /// angles down to the smallest normal number and quaternions up to `T::MAX` keep their
-    /// digits). The zero vector for `q = +-1`; a non-finite `q` gives a non-finite vector.
+    /// digits, and every finite `q` gives a finite vector). The zero vector for `q = +-1`; a
+    /// non-finite `q` gives a non-finite vector.
     #[must_use]
     pub fn to_rotation_vector(self) -> [T; 3] {
         let q = if self.w < T::ZERO {
@@ -119,17 +121,23 @@ impl<T: Real> Quaternion<T> {
         } else {
             self
         };
-        let n = norm3(q.x, q.y, q.z);
-        let angle = c::<T>(2.0) * n.atan2(q.w);
-        // zero turn: the vector is zero whatever the factor (no division by zero)
-        let k = if n > T::ZERO { angle / n } else { T::ZERO };
-        // a non-finite q carries its non-finite part through (never a finite vector)
-        let k = if q.w.is_finite() && n.is_finite() {
-            k
-        } else {
-            q.w.abs() + n
-        };
-        [q.x * k, q.y * k, q.z * k]
+        let (n, k) = angle_factor(q);
+        if k.is_finite() && n.is_finite() && q.w.is_finite() {
+            return [q.x * k, q.y * k, q.z * k];
+        }
+        if !(q.w.is_finite() && q.x.is_finite() && q.y.is_finite() && q.z.is_finite()) {
+            // a non-finite q carries its non-finite part through (never a finite vector)
+            let k = q.w.abs() + n;
+            return [q.x * k, q.y * k, q.z * k];
+        }
+        // a finite q whose |u| overflows (f32 (0, 3.4e38, 3.4e38, 0)) or lies so far below
+        // its angle that angle / |u| does (f64 (1e-320, 1e-321, 0, 0)): found in review as
+        // inf and NaN. Its direction, by the largest component (then that one is 1, so
+        // `|u| >= 1` or `w = 1`, and the factor is at most pi and at least about 2)
+        let s = q.w.max(q.x.abs()).max(q.y.abs()).max(q.z.abs());
+        let d = Self::new(q.w / s, q.x / s, q.y / s, q.z / s);
+        let (_, k) = angle_factor(d);
+        [d.x * k, d.y * k, d.z * k]
     }
 
     /// The angle of the rotation from attitude `self` to attitude `other` (radians, in
@@ -277,6 +285,15 @@ impl<T> From<Quaternion<T>> for [T; 4] {
 /// `sqrt(x^2 + y^2 + z^2)` without leaving the normal range: where the sum of squares would
 /// overflow or fall below `MIN_POSITIVE / eps` (where its digits start to go), the
 /// components are scaled by the largest first.
+/// `(|u|, 2 atan2(|u|, w) / |u|)` of `q = (w, u)` with `w >= 0`: the rotation vector is `k u`
+/// (`k = 0` for `u = 0`: the zero turn, whatever `w`).
+fn angle_factor<T: Real>(q: Quaternion<T>) -> (T, T) {
+    let n = norm3(q.x, q.y, q.z);
+    let angle = c::<T>(2.0) * n.atan2(q.w);
+    let k = if n > T::ZERO { angle / n } else { T::ZERO };
+    (n, k)
+}
+
 fn norm3<T: Real>(x: T, y: T, z: T) -> T {
     let n2 = x * x + y * y + z * z;
     if n2.is_finite() && n2 >= T::MIN_POSITIVE / T::EPSILON {

@@ -41,17 +41,24 @@
 //! This is the exact derivative of the DMV map (not of its round-off). Against forward-mode
 //! dual numbers run through the generic step of a fresh integrator (tests/jacobian.rs, f64,
 //! `10^3` random bodies, states and steps up to 0.9 of the existence limit or one radian of
-//! turn), `max |F - F_dual| / max(1, max |F|)` is `2.6e-15` for `Mv` and `7.1e-16` for
+//! turn), `max |F - F_dual| / max(1, max |F|)` is `1.4e-15` for `Mv` and `7.8e-16` for
 //! `PreMv` (orders 2 to 10); Richardson-extrapolated central differences agree to their own
 //! accuracy (`2e-10`). This is the derivative of the map of the stored body, whose mass
-//! matrix `J` is rounded to `eps J_max` absolutely: for an elongated body the map differs from
-//! the exact body's by `eps I_max / I_min` relatively, which the Jacobian shows (the entry
-//! `h / I_min`; a first-use trial against a 50-digit DMV: `1e-13` at `I_min / I_max = 1e-3`,
-//! up to `1.9e-9` at `1e-6`, the step itself within `1e-16`). The step itself is the ordinary `step_state` (same result, same
-//! tracking); the Jacobian adds `X = R(p)` from the step's turn `p`, one 3x3 inverse (one
-//! division) and two 3x3 products (`PreMv`: two more, and the gradient of its modified moments,
-//! no division). Measured on x86-64 (f64, talk's case): a step with its Jacobian costs about
-//! 1.7 plain `step_state`s.
+//! matrix `J` is rounded to `eps J_max` absolutely, evaluated at the step's computed turn: on
+//! an elongated body the step's own rounding grows to about `eps I_max / I_min` of `|m|` in
+//! the momentum and `h / I_min` times that in the attitude ([`Mv`]'s docs), and the Jacobian
+//! (whose entries reach `h / I_min`) moves with it. Against a 50-digit DMV of the stored body
+//! (a review): `1.5e-13` of `max |F|` at `I_min / I_max = 1e-3`, `3e-12` at `1e-4`,
+//! `5.6e-7`–`1.6e-6` at `1e-6` (`I = (1e-6, 1, 1)`, `m = (3e-7, 0.4, 1)`, `h = 0.1`: the
+//! conserved `m_x` comes out `1.2e-3` off relatively, `3.4e-10` of `|m|`, and the attitude
+//! `1.8e-5` rad; an earlier trial's `1.9e-9` at `1e-6` was a gentler case). The step itself
+//! is the ordinary `step_state` (same result, same tracking); the Jacobian adds `X = R(p)`
+//! from the step's turn `p`, one 3x3 inverse (one division) and two 3x3 products (`PreMv`:
+//! two more, and the gradient of its modified moments, no division). Measured on x86-64
+//! (f64, talk's case at `h = 0.01`, `cargo bench --bench steps -- jacobian`, one run on a
+//! 2-core Intel Xeon): a step with its Jacobian costs about 4.7 free-running `step_state`s
+//! for `Mv` (141 vs 29.9 ns) and 6.0 for `PreMv` order 4 (191 vs 31.7 ns): the tangent map's
+//! 3x3 inverse and products are about 230 flops, more than the free-running step itself.
 
 use crate::error::StepError;
 use crate::integrator::{checked_state, Integrator, State};
@@ -122,10 +129,10 @@ impl<T: Real> Mv<T> {
     /// `q = [w, x, y, z]`.
     ///
     /// The step is exactly [`Integrator::step_state`] (same state, same tracking); `F` is the
-    /// implicit derivative of the DMV equation (module docs), exact to round-off (`2.6e-15`
+    /// implicit derivative of the DMV equation (module docs), exact to round-off (`1.4e-15`
     /// relative in f64 against dual numbers), for one 3x3 inverse and two 3x3 products more
-    /// than the step: about 3 times a free-running step's host time (2.7–3.5x for `Mv`, up to
-    /// 4x for `PreMv`; the README's host-time table).
+    /// than the step: about 4.7 times a free-running step's host time (`PreMv` 6.0; the
+    /// module docs).
     ///
     /// # Errors
     ///

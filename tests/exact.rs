@@ -279,10 +279,13 @@ fn rhs(i: &[f64; 3], y: &[f64; 7]) -> [f64; 7] {
     let (m, q) = ([y[0], y[1], y[2]], [y[3], y[4], y[5], y[6]]);
     let o = [m[0] / i[0], m[1] / i[1], m[2] / i[2]];
     let (w, x, yy, z) = (q[0], q[1], q[2], q[3]);
+    // m x Omega with each component's difference of moments formed exactly (the two
+    // products m_j m_k / I_k and m_k m_j / I_j cancel to round-off on a nearly symmetric body)
+    let d = |a: f64, b: f64| (a - b) / (a * b);
     [
-        m[1] * o[2] - m[2] * o[1],
-        m[2] * o[0] - m[0] * o[2],
-        m[0] * o[1] - m[1] * o[0],
+        m[1] * m[2] * d(i[1], i[2]),
+        m[2] * m[0] * d(i[2], i[0]),
+        m[0] * m[1] * d(i[0], i[1]),
         0.5 * (-x * o[0] - yy * o[1] - z * o[2]),
         0.5 * (w * o[0] + yy * o[2] - z * o[1]),
         0.5 * (w * o[1] + z * o[0] - x * o[2]),
@@ -526,4 +529,114 @@ fn a_changing_step_keeps_the_attitude_unit_and_exact() {
     println!("Exact with h alternating 1/60, 1/50 s, 200 steps: |q| - 1 {worst:.1e}, attitude {dq:.1e}, momentum {dm:.1e} from RK4");
     assert!(worst <= 1e-14, "{worst:e}");
     assert!(dq <= 1e-9 && dm <= 1e-9, "{dq:e} {dm:e}");
+}
+
+/// Nearly symmetric bodies: the attitude's angle has a large part linear in time, which the
+/// old evaluation took from the rounded phase and a rounded `R_J` and cancelled against the
+/// exact one (found in review: `1e-3` off for `I = (1e-8, 2, 2 + 1 ulp)` at every `t`, `3e-4`
+/// already at `t = 1e-6`; `1.6e-4` in f32 for `I = (1, 2, 2.0001)` at `t = 0.01`). Oracle:
+/// RK4 at two step sizes (their difference bounds its own error), from the same inputs
+/// (the f32 cases rounded to f32 first). Each case's worst error against the bound on it.
+#[test]
+fn nearly_symmetric_bodies_keep_their_attitude() {
+    let ulp2 = 2.0 * f64::EPSILON;
+    let q0 = {
+        let q = [0.8, -0.1, 0.3, 0.5];
+        let n = norm(&q);
+        q.map(|x| x / n)
+    };
+    // (inertia, m0, times)
+    let cases: &[([f64; 3], [f64; 3], &[f64])] = &[
+        (
+            [1e-8, 2.0, 2.0 + ulp2],
+            [0.0, 0.9999499987499375, 0.01],
+            &[1e-6, 1e-3, 1.0],
+        ),
+        (
+            [1e-4, 2.0, 2.0 + ulp2],
+            [1e-10, 0.9999499987, 1e-3],
+            &[1.0, 10.0],
+        ),
+        ([0.1, 2.0, 2.0 + ulp2], [1e-10, 0.995, 0.1], &[1.0, 10.0]),
+        ([1.0, 2.0, 2.0 + 1e-15], [0.0, 0.6, 0.8], &[7.0]),
+        ([1.0, 2.0 - 1e-8, 2.0], [1e-5, 1.0, 1.0], &[3.0]),
+        // about the smallest axis, nearly symmetric about it
+        ([1.0, 1.0 + 1e-9, 2.0], [0.6, 0.3, 0.2], &[0.5, 6.0]),
+        ([1.0, 1.0 + 4.0 * ulp2, 1.5], [0.9, 0.1, 0.05], &[2.0]),
+    ];
+    for &(inertia, m0, times) in cases {
+        let body = Body::from_inertia(inertia).unwrap();
+        let s0 = State::new(m0, q0);
+        for &t in times {
+            let ex = Exact::at(&body, &s0, t).unwrap();
+            let n = ((t.abs() * 4000.0) as usize).max(200);
+            // the stored body's moments (from its mass matrix: an ulp apart from the input's)
+            let stored = body.inertia();
+            let (fine, coarse) = (rk4(stored, &s0, t, 2 * n), rk4(stored, &s0, t, n));
+            let own = q_err(&fine.q, &coarse.q).max(m_err(&fine.m, &coarse.m));
+            let (eq, em) = (q_err(&ex.q, &fine.q), m_err(&ex.m, &fine.m));
+            println!("{inertia:?} {m0:?} t = {t:e}: attitude {eq:.1e}, momentum {em:.1e} (RK4's own {own:.0e})");
+            assert!(own <= 1e-13, "the oracle: {own:e}");
+            assert!(
+                eq <= 1e-12 && em <= 1e-12,
+                "{inertia:?} {m0:?} t={t}: {eq:e} {em:e}"
+            );
+        }
+    }
+    // f32, from the f32-rounded inputs; the attitude within a few f32 ulps of one
+    let f32_cases: &[([f32; 3], [f32; 3], &[f32])] = &[
+        ([1.0, 2.0, 2.0001], [0.0, 0.99995, 0.01], &[0.01, 1.0, 10.0]),
+        ([0.5, 1.0, 1.0001], [1e-4, 0.99995, 0.01], &[0.01, 1.0]),
+        ([1.0, 1.0001, 1.5], [0.1, 0.995, 0.0], &[10.0]),
+    ];
+    let q32 = q0.map(|x| x as f32);
+    for &(inertia, m0, times) in f32_cases {
+        let body = Body::<f32>::from_inertia(inertia).unwrap();
+        let s0 = State::new(m0, q32);
+        let s64 = State::new(m0.map(f64::from), q32.map(f64::from));
+        for &t in times {
+            let ex = Exact::at(&body, &s0, t).unwrap();
+            let n = ((t.abs() * 4000.0) as usize).max(200);
+            let r = rk4(body.inertia().map(f64::from), &s64, f64::from(t), n);
+            let eq = q_err(&ex.q.map(f64::from), &r.q);
+            println!("f32 {inertia:?} {m0:?} t = {t:e}: attitude {eq:.1e}");
+            assert!(eq <= 1e-6, "f32 {inertia:?} t={t}: {eq:e}");
+        }
+    }
+}
+
+/// Thin rods (one moment far below the others), against RK4 at two step sizes from the
+/// stored body's moments, and against the rod's own sensitivity: the same solution from the
+/// largest moment one ulp up.
+#[test]
+fn thin_rods_keep_their_attitude() {
+    let q0 = q_of(0.3, -0.2, 0.5);
+    let cases: &[([f64; 3], [f64; 3])] = &[
+        ([1e-6, 1.0 - 1e-6, 1.0], [1e-7, 0.8, 0.6]),
+        ([1e-6, 1.0 - 1e-12, 1.0], [0.0, 0.8, 0.6]),
+        ([3e-6, 1.0, 1.0 + 2e-6], [2e-7, 0.6, -0.8]),
+        ([1e-4, 0.99995, 1.0], [3e-5, 0.5, 0.5]),
+    ];
+    for &(inertia, m0) in cases {
+        let body = Body::from_inertia(inertia).unwrap();
+        let s0 = State::new(m0, q0);
+        let t = 10.0;
+        let ex = Exact::at(&body, &s0, t).unwrap();
+        let stored = body.inertia();
+        let n = 80_000;
+        let (fine, coarse) = (rk4(stored, &s0, t, 2 * n), rk4(stored, &s0, t, n));
+        let own = q_err(&fine.q, &coarse.q).max(m_err(&fine.m, &coarse.m));
+        let mut up = inertia;
+        up[2] = f64::from_bits(up[2].to_bits() + 1);
+        let nudged = Exact::at(&Body::from_inertia(up).unwrap(), &s0, t).unwrap();
+        let (ulp, ulp_m) = (q_err(&nudged.q, &ex.q), m_err(&nudged.m, &ex.m));
+        let (eq, em) = (q_err(&ex.q, &fine.q), m_err(&ex.m, &fine.m));
+        println!("rod {inertia:?} {m0:?} t = {t}: attitude {eq:.1e}, momentum {em:.1e} (RK4's own {own:.0e}; one ulp of I_max moves them {ulp:.0e}, {ulp_m:.0e})");
+        assert!(own <= 1e-13, "the oracle: {own:e}");
+        // within the rod's own sensitivity, or round-off
+        assert!(
+            eq <= ulp.max(1e-12) && em <= ulp_m.max(1e-12),
+            "{inertia:?}: {eq:e} {em:e}"
+        );
+    }
 }

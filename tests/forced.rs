@@ -1336,8 +1336,8 @@ fn a_rotor_turn_past_half_a_revolution_is_refused() {
     assert_eq!((s, f.time()), (s0, 2.0 * h));
 }
 
-/// The README's quick-start `tick` (wheels, then the measured `dt`, then the step) after one
-/// huge `dt` (a 32-bit microsecond timer that wrapped: 4294.967 s): that tick is refused and
+/// The README's quick-start `tick` (wheels, then the measured `dt`, then the step), without
+/// its guard on `dt` (the library's own refusal is under test), after one huge `dt` (a 32-bit microsecond timer that wrapped: 4294.967 s): that tick is refused and
 /// every later one steps. Oracle: a twin loop that never saw the bad tick (the refused tick
 /// leaves the state as it was; the integrator re-solves its root after the large change of
 /// `h`, so the two agree to the step's rounding, not bit for bit). Found by a first-use

@@ -159,6 +159,29 @@ fn rotation_vectors_recompose_and_angles_between_attitudes() {
         );
     }
     assert_eq!(Quaternion::<f64>::IDENTITY.to_rotation_vector(), [0.0; 3]);
+    // finite quaternions whose |u| overflows, or whose angle / |u| does (found in review:
+    // inf and NaN); oracle: the same direction at unit scale (powers of two scale exactly),
+    // and the half turn about (1, 1, 0) / sqrt(2), pi / sqrt(2) per component
+    let tiny = 2f64.powi(-1074);
+    let unit = Quaternion::<f64>::new(8.0, 1.0, 0.0, 0.0).to_rotation_vector();
+    let sub = Quaternion::<f64>::new(8.0 * tiny, tiny, 0.0, 0.0).to_rotation_vector();
+    assert!(
+        (sub[0] - unit[0]).abs() <= 4e-16 * unit[0] && sub[1] == 0.0,
+        "{sub:?}"
+    );
+    let half_turn = Quaternion::<f64>::new(0.0, 2f64.powi(-1030), 0.0, 0.0).to_rotation_vector();
+    assert!((half_turn[0] - pi).abs() <= 4e-16 * pi, "{half_turn:?}");
+    let diag = pi / 2f64.sqrt();
+    let huge = Quaternion::<f64>::new(1.0, 1.5e308, 1.5e308, 0.0).to_rotation_vector();
+    assert!(
+        (huge[0] - diag).abs() <= 4e-16 * diag && huge[0] == huge[1] && huge[2] == 0.0,
+        "{huge:?}"
+    );
+    let huge = Quaternion::<f32>::new(0.0, 3.4e38, 3.4e38, 0.0).to_rotation_vector();
+    assert!(
+        (f64::from(huge[0]) - diag).abs() <= 2e-7 * diag && huge[0] == huge[1] && huge[2] == 0.0,
+        "{huge:?}"
+    );
     let bad = Quaternion::new(f64::NAN, 0.0, 0.0, 0.0).to_rotation_vector();
     assert!(bad.iter().any(|x| !x.is_finite()));
 }

@@ -498,34 +498,3 @@ fn f32_jacobian_is_the_f64_one_to_single_precision() {
         assert!(d <= 2e-4 * scale.max(1.0), "{d:e} (scale {scale:e})");
     }
 }
-
-#[test]
-fn jacobian_cost_relative_to_a_plain_step() {
-    // printed, not asserted (timing on a shared machine): the ratio of a step with its
-    // Jacobian to a plain step_state, both along a trajectory
-    let body = Body::<f64>::from_mass_matrix([0.9218, 0.7382, 0.1763]).unwrap();
-    let s0 = State::new([0.4165, 0.9072, 0.0588], [1.0, 0.0, 0.0, 0.0]);
-    let n = 200_000;
-    let time = |jac: bool| {
-        let mut a = Mv::new(body, 0.01);
-        let mut s = s0;
-        let mut acc = 0.0;
-        let t = std::time::Instant::now();
-        for _ in 0..n {
-            if jac {
-                acc += a.step_with_jacobian(&mut s).unwrap()[3][0];
-            } else {
-                a.step_state(&mut s).unwrap();
-            }
-        }
-        (t.elapsed().as_secs_f64() / n as f64, acc + s.m[0])
-    };
-    let (plain, _) = time(false);
-    let (with, _) = time(true);
-    println!(
-        "Mv step_state {:.0} ns, step_with_jacobian {:.0} ns: ratio {:.2}",
-        plain * 1e9,
-        with * 1e9,
-        with / plain
-    );
-}

@@ -1,4 +1,5 @@
-"""References for Carlson's R_C and R_J at ratios far from one (tests/elliptic.rs).
+"""References for Carlson's R_C and R_J at ratios far from one, and Legendre's Pi at large
+negative characteristic (tests/elliptic.rs).
 
 Every input is an f32 value (so one table checks both precisions); each reference is mpmath's
 value at 40 digits, written with 20 significant digits. Run: python3 lab/refs/make_carlson_refs.py
@@ -62,6 +63,49 @@ for args in ([0.7, 1.3, 2.1, 1e17], [0.7, 1.3, 2.1, 1e15], [1.0, 1.0, 1.0, 1e-15
              [1e-25, 1e-25, 1e-25, 1e-25], [1e-30, 1.3e-30, 2.1e-30, 1e-16]):
     args = [f32(a) for a in args]
     rows.append(('rj', args, mp.elliprj(*args)))
+
+# Pi(n; phi | m) at large negative n (the characteristic of the nearly symmetric body's
+# attitude, crate::exact), where F and (n / 3) sin^3 phi R_J cancelled; reference by quadrature
+# of the defining integral (DLMF 19.2.7), split at the multiples of pi / 2
+pi_rng = random.Random(20261128)
+
+
+def pi_quad(n, phi, m):
+    # the integrand peaks at the multiples of pi (width 1 / sqrt(-n)) and, for m near one,
+    # at the odd multiples of pi / 2 (width sqrt(1 - m)): split there, geometrically
+    with mp.workdps(60):
+        n, phi, m = mp.mpf(n), mp.mpf(phi), mp.mpf(m)
+        f = lambda t: 1 / ((1 - n * mp.sin(t) ** 2) * mp.sqrt(1 - m * mp.sin(t) ** 2))
+        half = mp.pi / 2
+        points = {mp.mpf(0), phi}
+        widths = {0: 1 / mp.sqrt(-n), 1: mp.sqrt(1 - m)}
+        for k in range(-3, 4):
+            centre = k * half
+            w = widths[k % 2]
+            points.add(centre)
+            while w > 0 and w < 0.5:
+                points.update((centre - w, centre + w))
+                w *= 2
+        lo, hi = min(0, phi), max(0, phi)
+        ends = sorted(t for t in points if lo <= t <= hi)
+        value = mp.quad(f, ends, maxdegree=12)
+        value = value if phi >= 0 else -value
+        # a second algorithm: mpmath's own Pi (Carlson's forms at 60 digits, where the
+        # cancellation of F against the R_J term leaves 45 or more)
+        other = mp.ellippi(n, phi, m)
+        assert abs(value - other) <= mp.mpf(10) ** -30 * abs(value), (n, phi, m, value, other)
+        return value
+
+
+for decade in range(0, 21, 2):
+    for _ in range(4):
+        n = -f32(10 ** pi_rng.uniform(decade, decade + 1))
+        phi = f32(pi_rng.uniform(-4.0, 4.0))
+        m = f32(pi_rng.choice([0.0, pi_rng.uniform(0, 1), 1 - 10 ** pi_rng.uniform(-6, -1)]))
+        rows.append(('pi', [n, phi, m], pi_quad(n, phi, m)))
+for args in ([-1e6, 1.0, 0.5], [-3e5, 1.0, 0.5], [-2.0, 1.5707963, 0.9], [-1e20, 0.001, 0.3]):
+    args = [f32(a) for a in args]
+    rows.append(('pi', args, pi_quad(*args)))
 
 with open('lab/refs/carlson_refs.txt', 'w') as out:
     out.write('# kind inputs... reference (mpmath, 40 digits; lab/refs/make_carlson_refs.py)\n')

@@ -1,5 +1,5 @@
 //! The footprint check: the propagator of the README's firmware quick start
-//! (`Forced<f32, Mv, GravityGradient>` with wheels set and a measured `dt` every tick; the same
+//! (`Forced<f32, Mv, GravityGradient>` with wheels set and a measured, guarded `dt` every tick; the same
 //! calls, written again here: scripts/downstream compiles the README's own block) alone in a
 //! binary, on inputs the compiler
 //! cannot see (volatile reads), with a panic handler that calls a symbol that does not exist.
@@ -28,6 +28,11 @@ mod firmware {
         unsafe { rigid3_footprint_can_panic() }
     }
 
+    // the README's state sizes (608 and 372 bytes on this target), kept within budget
+    const _: () =
+        assert!(core::mem::size_of::<Forced<f32, Mv<f32>, GravityGradient<f32>>>() <= 640);
+    const _: () = assert!(core::mem::size_of::<Mv<f32>>() <= 400);
+
     static mut INPUT: [f32; 8] = [0.0; 8];
     static mut OUTPUT: [f32; 8] = [0.0; 8];
 
@@ -54,7 +59,11 @@ mod firmware {
         loop {
             let wheels = [input(0), input(1), input(2)];
             if p.set_rotor(wheels).is_ok() {
-                p.set_step_size(input(4));
+                // the README's guard against a glitched timer reading
+                let dt = input(4);
+                if dt > 0.0 && dt <= 0.01 {
+                    p.set_step_size(dt);
+                }
                 let _ = p.step_state(&mut s);
             }
             output(0, s.m[0]);
