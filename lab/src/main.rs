@@ -52,7 +52,8 @@ enum Command {
         /// Step size (nonzero; negative runs backwards).
         #[arg(long, allow_hyphen_values = true)]
         h: f64,
-        /// Duration, at least 0 (rounded to a whole number of steps, at most 1e10 of them).
+        /// Duration, at least 0 (rounded to a whole number of steps, at most 1e10 of them, so
+        /// the run may end a little past it: the report's t is the time reached).
         #[arg(long, allow_hyphen_values = true)]
         t: f64,
         /// Compute in f32 instead of f64.
@@ -61,7 +62,9 @@ enum Command {
         /// Print JSON.
         #[arg(long)]
         json: bool,
-        /// Rotor momentum hx,hy,hz (body frame, constant): a gyrostat.
+        /// Rotor momentum hx,hy,hz (body frame, constant): a gyrostat. The report's `energy` is
+        /// then 1/2 m . I^-1 m of the total momentum m; `total E` is the gyrostat's energy,
+        /// 1/2 (m - h_r) . I^-1 (m - h_r), which is conserved.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         rotor: Option<Vec<f64>>,
         /// Heavy top: M g (torque MG (Gamma x chi), Gamma = R(q)^T e_z); needs --com.
@@ -70,7 +73,9 @@ enum Command {
         /// Heavy top: centre of mass cx,cy,cz in the body frame.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         com: Option<Vec<f64>>,
-        /// Gravity gradient K,N: tau = 3K (r x I r), r = R(q)^T (cos N t, sin N t, 0).
+        /// Gravity gradient K,N: tau = 3K (r x I r), r = R(q)^T (cos N t, sin N t, 0); on a
+        /// circular orbit K = N^2 (N the orbit's rate). Not checked for sense (a negative K is
+        /// taken).
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true, action = clap::ArgAction::Set)]
         gravity_gradient: Option<Vec<f64>>,
         /// Body torque amplitudes A1,A2,A3: tau_i(t) = A_i cos(W_i t + P_i).
@@ -152,13 +157,15 @@ enum Command {
     /// A long run with attitude: max relative drift of |m|^2, E and R(q) m so far at every
     /// decade of steps (10, 100, ..., and the last). The invariants are evaluated in f64 from
     /// the state after every step (not sampled; 10^8 f32 mv steps take well under a minute).
-    /// Defaults: the spacecraft of firmware/src/bin/attitude.rs (principal moments, m0 and q0 from its
-    /// inertia tensor and tumble rate), h = 1/200.
+    /// Defaults: the README's spacecraft (principal moments 58.84, 95.50, 120.66 kg m^2, from
+    /// the inertia tensor of firmware/src/bin/attitude.rs, tumbling at 0.13 rad/s: m0 and q0
+    /// printed by `soak --json`), h = 1/200.
     Soak {
-        /// Method name (see `rigid3-lab methods`).
+        /// Method name: a free method of `rigid3-lab methods` (not the exact solution or
+        /// seed-mv), or with --rotor a forced one.
         #[arg(long)]
         method: String,
-        /// Steps.
+        /// Steps (at least 1).
         #[arg(long)]
         steps: u64,
         /// Compute in f32 instead of f64.
@@ -309,7 +316,7 @@ fn main() -> ExitCode {
             }
             println!(
                 "forced body (propagate with --rotor, --gravity, --gravity-gradient or \
-                 --body-torque; the names below that are not free methods also run without):"
+                 --body-torque; a free run of a name found only here takes it with no force):"
             );
             for m in FORCED_METHODS {
                 println!("  {m:<16} {}", describe_forced(m));
@@ -328,6 +335,12 @@ fn main() -> ExitCode {
             }
         }
         Command::WorkPrecision { scenes, t } => {
+            // the errors are measured against the references, which exist at these times only
+            // (any other --t printed a table of "-" and "NOT met", found by an analyst's trial)
+            if ![1.0, 10.0, 100.0].contains(&t) {
+                eprintln!("error: --t must be a reference time: 1, 10 or 100 (got {t})");
+                return ExitCode::FAILURE;
+            }
             let mut all = true;
             for name in scenes {
                 let Some(scene) = rigid3_lab::refs::scene(&name) else {
@@ -384,7 +397,10 @@ fn main() -> ExitCode {
             for name in names {
                 let Some(sc) = rigid3_lab::forced_work::ForcedScene::from_reference(&name, 10.0)
                 else {
-                    eprintln!("unknown forced scene {name}");
+                    eprintln!(
+                        "error: unknown forced scene '{name}' (scenes: heavy_top, satellite, \
+                         gyrostat, lagrange_top, gravity_gradient, body_torque)"
+                    );
                     return ExitCode::FAILURE;
                 };
                 let wins = rigid3_lab::forced_work::print_table(&sc);
@@ -453,6 +469,10 @@ fn main() -> ExitCode {
                 q0.map_or(Ok(sq), <[f64; 4]>::try_from),
                 rotor.map(<[f64; 3]>::try_from).transpose(),
             );
+            if steps == 0 {
+                eprintln!("error: --steps must be at least 1");
+                return ExitCode::FAILURE;
+            }
             let (Ok(inertia), Ok(m0), Ok(q0), Ok(rotor)) = parsed else {
                 eprintln!(
                     "error: --inertia, --m0 and --rotor take three comma-separated numbers, --q0 four"
@@ -529,6 +549,9 @@ fn check_propagate(
     inputs::check_finite(&refs, f32)?;
     inputs::check_inertia_range(&inertia, f32)?;
     inputs::check_step(h, f32)?;
+    // (t is not rounded: the run counts its steps in f64)
+    let stepped: Vec<(&str, &[f64])> = refs.iter().copied().filter(|(f, _)| *f != "t").collect();
+    inputs::check_underflow(&stepped, f32)?;
     if t < 0.0 {
         return Err(
             "--t is a duration and must be at least 0 (a negative --h runs backwards)".into(),
@@ -680,7 +703,12 @@ fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
         "max rel drift"
     };
     println!("method   {}  ({what})", r.method);
-    println!("h        {}   steps {}   t {}", r.h, r.steps, r.t);
+    println!(
+        "h        {}   steps {}   t {}",
+        short(r.h),
+        r.steps,
+        short(r.t)
+    );
     println!("m        {:.17e} {:.17e} {:.17e}", r.m[0], r.m[1], r.m[2]);
     if let Some(q) = r.q {
         println!(
@@ -688,14 +716,16 @@ fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
             q[0], q[1], q[2], q[3]
         );
     }
-    println!(
-        "energy   {:.17e}   {change} {:.3e}",
-        r.energy, r.energy_drift
-    );
-    println!(
-        "|m|^2    {:.17e}   {change} {:.3e}",
-        r.casimir, r.casimir_drift
-    );
+    // an invariant that f64 cannot hold (|m| near 1e200): not a number, as in the JSON's null
+    let value = |x: f64, d: f64| {
+        if x.is_finite() {
+            format!("{x:.17e}   {change} {d:.3e}")
+        } else {
+            "not representable in f64".to_string()
+        }
+    };
+    println!("energy   {}", value(r.energy, r.energy_drift));
+    println!("|m|^2    {}", value(r.casimir, r.casimir_drift));
     if let (Some(p), Some(d)) = (r.spatial_momentum, r.spatial_momentum_drift) {
         println!(
             "R(q) m   {:.17e} {:.17e} {:.17e}   {change} {:.3e}",
@@ -717,5 +747,16 @@ fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
     }
     if let Some(e) = &r.error {
         println!("stopped  {e}");
+    }
+}
+
+/// A number as given where that is short, else in exponent form (an `h` of `1e-162` printed
+/// as a decimal was 165 characters).
+fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{x:e}")
     }
 }

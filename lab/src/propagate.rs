@@ -270,7 +270,19 @@ pub fn propagate_forced<T: Real>(
     let mut error = None;
     for k in 1..=steps {
         if let Err(e) = integrator.step_state(&mut s) {
-            error = Some(e.to_string());
+            // a torque the model cannot evaluate is refused as not finite: name it (an
+            // angle past the sine's range read "state or step size is not finite", found by
+            // an analyst's trial)
+            let torque = spec.body_torque.is_some() || spec.gravity_gradient.is_some();
+            error = Some(if e == rigid3::StepError::NonFinite && torque {
+                format!(
+                    "{e}, or the torque is not: a body torque's or the orbit's angle past the \
+                     torque models' sine (6.6e6 rad in f32, 3.5e15 in f64) by t = {:e}",
+                    k as f64 * h
+                )
+            } else {
+                e.to_string()
+            });
             break;
         }
         taken = k;

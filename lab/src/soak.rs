@@ -6,7 +6,7 @@
 //! |R(q0) m0|`. Evaluating every step costs about as much as an `Mv` step in f32 (a few ns;
 //! 10^8 steps take well under a minute on the 2-core machine), so nothing is sampled.
 
-use crate::forced_methods::{make_forced, ForceSpec};
+use crate::forced_methods::{make_forced, needs_exact_drift, ForceSpec, FORCED_METHODS};
 use crate::methods::make;
 use crate::propagate::{max_abs, unit_of, worse};
 use rigid3::{Body, Real, State};
@@ -92,20 +92,36 @@ pub fn soak<T: Real + 'static>(
     }
     crate::inputs::check_inertia_range(&inertia, f32)?;
     crate::inputs::check_step(h, f32)?;
+    crate::inputs::check_underflow(&[("m0", &m0)], f32)?;
+    if let Some(r) = rotor {
+        crate::inputs::check_underflow(&[("rotor", &r)], f32)?;
+    }
     crate::inputs::check_steps(steps as f64, "--steps")?;
     let q0 = crate::inputs::unit_quaternion(q0)?;
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let mut it = match rotor {
-        None => make(method, body, T::from_f64(h))
-            .ok_or_else(|| format!("unknown method '{method}' (see `rigid3-lab methods`)"))?,
+        None => make(method, body, T::from_f64(h)).ok_or_else(|| {
+            if FORCED_METHODS.contains(&method) {
+                format!("'{method}' is a forced method: soak runs it with --rotor")
+            } else {
+                format!("unknown method '{method}' (see `rigid3-lab methods`)")
+            }
+        })?,
         Some(r) => {
             let spec = ForceSpec {
                 rotor: Some(r),
                 ..ForceSpec::default()
             };
             make_forced(method, body, T::from_f64(h), &spec).ok_or_else(|| {
-                if crate::forced_methods::FORCED_METHODS.contains(&method) {
-                    format!("'{method}' takes no rotor at h = {h} (see `rigid3-lab methods`)")
+                if needs_exact_drift(method) {
+                    format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow (use forced4 or forced6)")
+                } else if FORCED_METHODS.contains(&method) {
+                    format!("'{method}' refused the rotor: I^-1 h_r overflows")
+                } else if crate::methods::METHODS.contains(&method) {
+                    format!(
+                        "'{method}' has no forced step: with --rotor soak takes one of {}",
+                        FORCED_METHODS.join(", ")
+                    )
                 } else {
                     format!("unknown method '{method}' (see `rigid3-lab methods`)")
                 }

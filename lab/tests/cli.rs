@@ -237,6 +237,10 @@ fn soak_refuses_bad_numbers_naming_the_flag() {
             &["--inertia", "1e-50,2e-50,2.5e-50", "--f32"],
             "--inertia has a moment that rounds to zero in f32",
         ),
+        (
+            &["--m0", "1e-50,1e-50,0", "--f32"],
+            "--m0 has a nonzero number that rounds to zero in f32",
+        ),
     ] {
         let mut args = vec!["soak", "--method", "mv", "--steps", "100"];
         args.extend_from_slice(extra);
@@ -757,5 +761,98 @@ fn drifts_are_those_of_the_unit_scale_run_at_every_scale() {
                 "soak {key}: {a} vs {b}: {out}"
             );
         }
+    }
+}
+
+/// Refusals an analyst's trial found missing or misleading: a work-precision time without
+/// references (it printed a table of "-" and exit 0), an unknown forced scene, soak's forced
+/// and free names (real methods were called unknown), zero soak steps (an empty table, exit
+/// 0), an f32 momentum that underflows (ran as a body at rest), and a torque angle past the
+/// torque models' sine (reported as a non-finite state).
+#[test]
+fn refusals_name_what_is_wrong() {
+    for (args, want) in [
+        (
+            &["work-precision", "--t", "5"][..],
+            "--t must be a reference time",
+        ),
+        (&["forced-work", "--scene", "foo"], "scenes: heavy_top"),
+        (
+            &["soak", "--method", "forced4", "--steps", "10"],
+            "'forced4' is a forced method: soak runs it with --rotor",
+        ),
+        (
+            &[
+                "soak", "--method", "exact", "--steps", "10", "--rotor", "0.1,0,0",
+            ],
+            "'exact' has no forced step",
+        ),
+        (
+            &[
+                "soak",
+                "--method",
+                "fg4-pre10",
+                "--steps",
+                "10",
+                "--rotor",
+                "0.1,0,0",
+            ],
+            "needs the free body's exact flow",
+        ),
+        (
+            &["soak", "--method", "mv", "--steps", "0"],
+            "--steps must be at least 1",
+        ),
+        (
+            &[
+                "propagate",
+                "--method",
+                "mv",
+                "--inertia",
+                "1,2,2.5",
+                "--m0",
+                "1e-50,0,0",
+                "--h",
+                "0.1",
+                "--t",
+                "1",
+                "--f32",
+            ],
+            "--m0 has a nonzero number that rounds to zero in f32",
+        ),
+        (
+            &[
+                "propagate",
+                "--method",
+                "mv",
+                "--inertia",
+                "1,2,2.5",
+                "--m0",
+                "1,1,1",
+                "--h",
+                "0.1",
+                "--t",
+                "1",
+                "--f32",
+                "--body-torque",
+                "1,1,1",
+                "--torque-freq",
+                "1e7,0,0",
+            ],
+            "or the torque is not",
+        ),
+    ] {
+        let (ok, out) = lab(args);
+        assert!(!ok && out.contains(want), "{args:?}: {out}");
+    }
+    // the same soak names run where they belong
+    for args in [
+        &[
+            "soak", "--method", "forced4", "--steps", "10", "--rotor", "0.1,0,0",
+        ][..],
+        &["soak", "--method", "exact", "--steps", "10"],
+    ] {
+        let (ok, out) = lab(args);
+        assert!(ok, "{args:?}: {out}");
     }
 }
