@@ -103,7 +103,10 @@ for decade in range(0, 21, 2):
         phi = f32(pi_rng.uniform(-4.0, 4.0))
         m = f32(pi_rng.choice([0.0, pi_rng.uniform(0, 1), 1 - 10 ** pi_rng.uniform(-6, -1)]))
         rows.append(('pi', [n, phi, m], pi_quad(n, phi, m)))
-for args in ([-1e6, 1.0, 0.5], [-3e5, 1.0, 0.5], [-2.0, 1.5707963, 0.9], [-1e20, 0.001, 0.3]):
+for args in ([-1e6, 1.0, 0.5], [-3e5, 1.0, 0.5], [-2.0, 1.5707963, 0.9], [-1e20, 0.001, 0.3],
+             # near pi / 2 with m near one, where 1 - m sin^2 phi cancelled (review)
+             [-1e12, 1.5707962, 0.999999], [-1e16, 1.5707962, 0.9999999], [-1e8, 1.5707962, 0.9999999],
+             [-1e5, 1.5706964, 0.999], [-3.0, 1.5707962, 0.9999999]):
     args = [f32(a) for a in args]
     rows.append(('pi', args, pi_quad(*args)))
 
