@@ -803,37 +803,20 @@ fn refusals_name_what_is_wrong() {
             &["soak", "--method", "mv", "--steps", "0"],
             "--steps must be at least 1",
         ),
+    ] {
+        let (ok, out) = lab(args);
+        assert!(!ok && out.contains(want), "{args:?}: {out}");
+    }
+    // propagate in f32: a momentum that underflows, and a torque angle past the sine
+    for (extra, want) in [
         (
-            &[
-                "propagate",
-                "--method",
-                "mv",
-                "--inertia",
-                "1,2,2.5",
-                "--m0",
-                "1e-50,0,0",
-                "--h",
-                "0.1",
-                "--t",
-                "1",
-                "--f32",
-            ],
+            &["--m0", "1e-50,0,0"][..],
             "--m0 has a nonzero number that rounds to zero in f32",
         ),
         (
             &[
-                "propagate",
-                "--method",
-                "mv",
-                "--inertia",
-                "1,2,2.5",
                 "--m0",
                 "1,1,1",
-                "--h",
-                "0.1",
-                "--t",
-                "1",
-                "--f32",
                 "--body-torque",
                 "1,1,1",
                 "--torque-freq",
@@ -842,8 +825,11 @@ fn refusals_name_what_is_wrong() {
             "or the torque is not",
         ),
     ] {
-        let (ok, out) = lab(args);
-        assert!(!ok && out.contains(want), "{args:?}: {out}");
+        let mut args = MV_BASE[..5].to_vec();
+        args.extend_from_slice(&["--h", "0.1", "--t", "1", "--f32"]);
+        args.extend_from_slice(extra);
+        let (ok, out) = lab(&args);
+        assert!(!ok && out.contains(want), "{extra:?}: {out}");
     }
     // the same soak names run where they belong
     for args in [
