@@ -133,7 +133,7 @@ impl<T: Real> Quaternion<T> {
         // a finite q whose |u| overflows (f32 (0, 3.4e38, 3.4e38, 0)) or lies so far below
         // its angle that angle / |u| does (f64 (1e-320, 1e-321, 0, 0)): found in review as
         // inf and NaN. Its direction, by the largest component (then that one is 1, so
-        // `|u| >= 1` or `w = 1`, and the factor is at most pi and at least about 2)
+        // `|u| >= 1` or `w = 1`, and the factor lies between about 0.9 and pi)
         let s = q.w.max(q.x.abs()).max(q.y.abs()).max(q.z.abs());
         let d = Self::new(q.w / s, q.x / s, q.y / s, q.z / s);
         let (_, k) = angle_factor(d);
@@ -282,9 +282,6 @@ impl<T> From<Quaternion<T>> for [T; 4] {
     }
 }
 
-/// `sqrt(x^2 + y^2 + z^2)` without leaving the normal range: where the sum of squares would
-/// overflow or fall below `MIN_POSITIVE / eps` (where its digits start to go), the
-/// components are scaled by the largest first.
 /// `(|u|, 2 atan2(|u|, w) / |u|)` of `q = (w, u)` with `w >= 0`: the rotation vector is `k u`
 /// (`k = 0` for `u = 0`: the zero turn, whatever `w`).
 fn angle_factor<T: Real>(q: Quaternion<T>) -> (T, T) {
@@ -294,6 +291,9 @@ fn angle_factor<T: Real>(q: Quaternion<T>) -> (T, T) {
     (n, k)
 }
 
+/// `sqrt(x^2 + y^2 + z^2)` without leaving the normal range: where the sum of squares would
+/// overflow or fall below `MIN_POSITIVE / eps` (where its digits start to go), the
+/// components are scaled by the largest first.
 fn norm3<T: Real>(x: T, y: T, z: T) -> T {
     let n2 = x * x + y * y + z * z;
     if n2.is_finite() && n2 >= T::MIN_POSITIVE / T::EPSILON {

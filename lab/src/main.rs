@@ -161,8 +161,7 @@ enum Command {
     /// the inertia tensor of firmware/src/bin/attitude.rs, tumbling at 0.13 rad/s: m0 and q0
     /// printed by `soak --json`), h = 1/200.
     Soak {
-        /// Method name: a free method of `rigid3-lab methods` (not the exact solution or
-        /// seed-mv), or with --rotor a forced one.
+        /// Method name: a free method of `rigid3-lab methods`, or with --rotor a forced one.
         #[arg(long)]
         method: String,
         /// Steps (at least 1).
