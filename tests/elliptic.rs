@@ -82,10 +82,11 @@ fn rj_keeps_a_few_ulps_with_p_far_from_the_others() {
 /// `Pi(n; phi | m)` at large negative `n` (a nearly symmetric body's attitude, crate::exact),
 /// where `F` and `(n / 3) sin^3 phi R_J` cancelled (1100 ulps in f64 at `n = -3e5`, 1.7e-4
 /// relative in f32 at `n = -1e6`): through the change of parameter of `R_J` it keeps a few
-/// ulps, `phi` past a half turn and near `pi / 2` with `m` near one included (quadrature and
-/// mpmath's own `Pi` at 60 digits).
+/// ulps, `phi` past a half turn and near `pi / 2` with `m` near one included; and at `n` near
+/// one near `pi / 2`, where `1 - n sin^2 phi` cancelled (quadrature and mpmath's own `Pi` at
+/// 60 digits).
 #[test]
-fn pi_keeps_a_few_ulps_at_large_negative_characteristic() {
+fn pi_keeps_a_few_ulps_at_extreme_characteristics() {
     check_kind("pi", "Pi", 8.0);
 }
 

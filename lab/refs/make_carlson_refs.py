@@ -65,7 +65,8 @@ for args in ([0.7, 1.3, 2.1, 1e17], [0.7, 1.3, 2.1, 1e15], [1.0, 1.0, 1.0, 1e-15
     rows.append(('rj', args, mp.elliprj(*args)))
 
 # Pi(n; phi | m) at large negative n (the characteristic of the nearly symmetric body's
-# attitude, crate::exact), where F and (n / 3) sin^3 phi R_J cancelled; reference by quadrature
+# attitude, crate::exact), where F and (n / 3) sin^3 phi R_J cancelled, and at n near one near
+# pi / 2, where 1 - n sin^2 phi did; reference by quadrature
 # of the defining integral (DLMF 19.2.7), split at the multiples of pi / 2
 pi_rng = random.Random(20261128)
 
@@ -78,7 +79,8 @@ def pi_quad(n, phi, m):
         f = lambda t: 1 / ((1 - n * mp.sin(t) ** 2) * mp.sqrt(1 - m * mp.sin(t) ** 2))
         half = mp.pi / 2
         points = {mp.mpf(0), phi}
-        widths = {0: 1 / mp.sqrt(-n), 1: mp.sqrt(1 - m)}
+        widths = {0: 1 / mp.sqrt(-n) if n < 0 else mp.mpf(1),
+                  1: min(mp.sqrt(1 - m), mp.sqrt(1 - n) if n > 0 else mp.mpf(1))}
         for k in range(-3, 4):
             centre = k * half
             w = widths[k % 2]
@@ -106,7 +108,10 @@ for decade in range(0, 21, 2):
 for args in ([-1e6, 1.0, 0.5], [-3e5, 1.0, 0.5], [-2.0, 1.5707963, 0.9], [-1e20, 0.001, 0.3],
              # near pi / 2 with m near one, where 1 - m sin^2 phi cancelled (review)
              [-1e12, 1.5707962, 0.999999], [-1e16, 1.5707962, 0.9999999], [-1e8, 1.5707962, 0.9999999],
-             [-1e5, 1.5706964, 0.999], [-3.0, 1.5707962, 0.9999999]):
+             [-1e5, 1.5706964, 0.999], [-3.0, 1.5707962, 0.9999999],
+             # n near one near pi / 2, where 1 - n sin^2 phi cancelled (review)
+             [0.9999999, 1.5707962, 0.9999999], [0.999, 1.5, 0.5], [0.5, 1.5707962, 0.99],
+             [0.99999994, -1.5706, 0.3]):
     args = [f32(a) for a in args]
     rows.append(('pi', args, pi_quad(*args)))
 

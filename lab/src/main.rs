@@ -52,8 +52,9 @@ enum Command {
         /// Step size (nonzero; negative runs backwards).
         #[arg(long, allow_hyphen_values = true)]
         h: f64,
-        /// Duration, at least 0 (rounded to a whole number of steps, at most 1e10 of them, so
-        /// the run may end a little past it: the report's t is the time reached).
+        /// Duration, at least 0 (rounded to the nearest whole number of steps, at most 1e10 of
+        /// them, so the run may end a little short of it or past it: the report's t is the time
+        /// reached).
         #[arg(long, allow_hyphen_values = true)]
         t: f64,
         /// Compute in f32 instead of f64.
@@ -715,13 +716,12 @@ fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
             q[0], q[1], q[2], q[3]
         );
     }
-    // an invariant that f64 cannot hold (|m| near 1e200): not a number, as in the JSON's null
-    let value = |x: f64, d: f64| {
-        if x.is_finite() {
-            format!("{x:.17e}   {change} {d:.3e}")
-        } else {
-            "not representable in f64".to_string()
-        }
+    // an invariant whose evaluation overflowed (|m| near 1e200): no number, as in the JSON's
+    // null, but its drift where that was measured (in scaled units)
+    let value = |x: f64, d: f64| match (x.is_finite(), d.is_finite()) {
+        (true, _) => format!("{x:.17e}   {change} {d:.3e}"),
+        (false, true) => format!("overflows as evaluated   {change} {d:.3e}"),
+        (false, false) => "overflows as evaluated".to_string(),
     };
     println!("energy   {}", value(r.energy, r.energy_drift));
     println!("|m|^2    {}", value(r.casimir, r.casimir_drift));
@@ -749,11 +749,12 @@ fn print_report(r: &Report, forced_method: bool, with_forces: bool) {
     }
 }
 
-/// A number as given where that is short, else in exponent form (an `h` of `1e-162` printed
-/// as a decimal was 165 characters).
+/// A number as Rust prints it where that is at most 24 characters (every `f64` of a
+/// moderate exponent), else in exponent form (an `h` of `1e-162` printed as a decimal was 165
+/// characters).
 fn short(x: f64) -> String {
     let plain = format!("{x}");
-    if plain.len() <= 12 {
+    if plain.len() <= 24 {
         plain
     } else {
         format!("{x:e}")

@@ -270,15 +270,25 @@ pub fn propagate_forced<T: Real>(
     let mut error = None;
     for k in 1..=steps {
         if let Err(e) = integrator.step_state(&mut s) {
-            // a torque the model cannot evaluate is refused as not finite: name it (an
-            // angle past the sine's range read "state or step size is not finite", found by
-            // an analyst's trial)
-            let torque = spec.body_torque.is_some() || spec.gravity_gradient.is_some();
-            error = Some(if e == rigid3::StepError::NonFinite && torque {
+            // a torque whose angle has left the torque models' sine is refused as not
+            // finite: name it where that is the cause (it read "state or step size is not
+            // finite", found by an analyst's trial; an overflow keeps its own message)
+            let t = k as f64 * h;
+            let limit = if T::EPSILON.to_f64() > 1e-10 {
+                6.6e6
+            } else {
+                3.5e15
+            };
+            let orbit = spec.gravity_gradient.map_or(0.0, |(_, n)| (n * t).abs());
+            let own = spec.body_torque.map_or(0.0, |(_, w, p)| {
+                (0..3).map(|i| (w[i] * t + p[i]).abs()).fold(0.0, f64::max)
+            });
+            let past = orbit.max(own) > limit;
+            error = Some(if e == rigid3::StepError::NonFinite && past {
                 format!(
-                    "{e}, or the torque is not: a body torque's or the orbit's angle past the \
-                     torque models' sine (6.6e6 rad in f32, 3.5e15 in f64) by t = {:e}",
-                    k as f64 * h
+                    "{e}: the torque is not, its angle ({:e} rad at t = {t:e}) past the \
+                     torque models' sine ({limit:e} rad in this precision)",
+                    orbit.max(own)
                 )
             } else {
                 e.to_string()

@@ -101,7 +101,9 @@ pub fn soak<T: Real + 'static>(
     let body = Body::<T>::from_inertia(inertia.map(T::from_f64)).map_err(|e| e.to_string())?;
     let mut it = match rotor {
         None => make(method, body, T::from_f64(h)).ok_or_else(|| {
-            if FORCED_METHODS.contains(&method) {
+            if needs_exact_drift(method) {
+                format!("'{method}' splits a torque, and soak runs none: it runs the free methods, and the forced ones with --rotor, which this one cannot take")
+            } else if FORCED_METHODS.contains(&method) {
                 format!("'{method}' is a forced method: soak runs it with --rotor")
             } else {
                 format!("unknown method '{method}' (see `rigid3-lab methods`)")

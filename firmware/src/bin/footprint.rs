@@ -61,7 +61,7 @@ mod firmware {
             if p.set_rotor(wheels).is_ok() {
                 // the README's guard against a glitched timer reading
                 let dt = input(4);
-                if dt > 0.0 && dt <= 0.01 {
+                if (1e-6..=0.01).contains(&dt) {
                     p.set_step_size(dt);
                 }
                 let _ = p.step_state(&mut s);
