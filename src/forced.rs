@@ -590,15 +590,16 @@ impl<T: Real, F: Torque<T>> Forcing<T, F> {
         }
     }
 
-    /// The rotor `h_r`, `I^-1 h_r` and `I^-1`, checked (`NonFinite`, `Overflow`), not yet set.
-    pub(crate) fn checked_rotor(body: &Body<T>, h_r: [T; 3]) -> Result<[Vec3<T>; 3], StepError> {
+    /// The rotor `h_r` and `I^-1 h_r` for the body's `inv_i` (the integrator keeps it: no
+    /// division on the tick that sets the wheels), checked (`NonFinite`, `Overflow`), not yet
+    /// set.
+    pub(crate) fn checked_rotor(inv_i: Vec3<T>, h_r: [T; 3]) -> Result<[Vec3<T>; 2], StepError> {
         let r = checked_momentum(&h_r)?;
-        let inv_i = body.inverse_inertia();
         let w = r.mul_elem(inv_i);
         if !w.is_finite() {
             return Err(StepError::Overflow);
         }
-        Ok([r, w, inv_i])
+        Ok([r, w])
     }
 
     /// Forgets the per-trajectory data ([`Integrator::reset`]): the cached end torque, the
@@ -1030,7 +1031,7 @@ impl<T: Real, D: Integrator<T>, F: Torque<T>> Forced<T, D, F> {
     /// `NonFinite` for a non-finite `h_r` and `Overflow` if `I^-1 h_r` overflows; the rotor is
     /// then left as it was.
     pub fn set_rotor(&mut self, h_r: [T; 3]) -> Result<(), StepError> {
-        let [r, w, _] = Forcing::<T, F>::checked_rotor(self.drift.body(), h_r)?;
+        let [r, w] = Forcing::<T, F>::checked_rotor(self.inv_i, h_r)?;
         let turn = half_turn(w, self.drift.step_size());
         self.forcing.rotor_moved |= r != self.forcing.rotor;
         self.forcing.rotor = r;

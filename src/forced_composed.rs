@@ -482,8 +482,7 @@ impl<T: Real, D: Integrator<T> + Clone, F: Torque<T>> Composed<T, D, F> {
                 StepError::NonFinite
             });
         }
-        let body = *self.stages[0].body();
-        let [r, w, _] = Forcing::<T, F>::checked_rotor(&body, h_r)?;
+        let [r, w] = Forcing::<T, F>::checked_rotor(self.inv_i, h_r)?;
         let (turns, check) = Self::turns_for(w, &self.drift_len);
         self.forcing.rotor_moved |= r != self.forcing.rotor;
         self.forcing.rotor = r;
