@@ -183,6 +183,26 @@ pub fn needs_exact_drift(name: &str) -> bool {
     name.starts_with("nystrom") || name.starts_with("fg4")
 }
 
+/// Why [`make_forced`] built no integrator for `method` with `spec`, in words (`propagate` and
+/// `soak --rotor` report it).
+pub fn refusal(method: &str, spec: &ForceSpec) -> String {
+    let forced = FORCED_METHODS.contains(&method);
+    if forced && needs_exact_drift(method) {
+        format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
+    } else if forced && spec.rotor.is_some() {
+        format!("'{method}' refused the rotor: I^-1 h_r overflows")
+    } else if forced {
+        format!("'{method}' cannot be built for this body and step")
+    } else if crate::methods::METHODS.contains(&method) {
+        format!(
+            "'{method}' has no forced step (forced methods: {})",
+            FORCED_METHODS.join(", ")
+        )
+    } else {
+        format!("unknown method '{method}' (see `rigid3-lab methods`)")
+    }
+}
+
 /// One-line description of a forced method.
 pub fn describe_forced(name: &str) -> &'static str {
     match name {

@@ -659,22 +659,8 @@ fn run_forced<T: Real + 'static>(
             return Err(format!("'{method}' refused the rotor: its half turn per step passes half a revolution (h |I^-1 h_r| > 8)"));
         }
     }
-    let mut integrator = make_forced(method, body, T::from_f64(h), spec).ok_or_else(|| {
-        if FORCED_METHODS.contains(&method) && needs_exact_drift(method) {
-            format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow, and with a rotor that is a gyrostat (use forced4 or forced6)")
-        } else if FORCED_METHODS.contains(&method) && spec.rotor.is_some() {
-            format!("'{method}' refused the rotor: I^-1 h_r overflows")
-        } else if FORCED_METHODS.contains(&method) {
-            format!("'{method}' cannot be built for this body and step")
-        } else if !METHODS.contains(&method) {
-            format!("unknown method '{method}' (see `rigid3-lab methods`)")
-        } else {
-            format!(
-                "unknown forced method '{method}' (forced methods: {})",
-                FORCED_METHODS.join(", ")
-            )
-        }
-    })?;
+    let mut integrator = make_forced(method, body, T::from_f64(h), spec)
+        .ok_or_else(|| rigid3_lab::forced_methods::refusal(method, spec))?;
     let s0 = State::new(
         m0.map(T::from_f64),
         q0.unwrap_or([1.0, 0.0, 0.0, 0.0]).map(T::from_f64),

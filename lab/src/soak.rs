@@ -114,20 +114,8 @@ pub fn soak<T: Real + 'static>(
                 rotor: Some(r),
                 ..ForceSpec::default()
             };
-            make_forced(method, body, T::from_f64(h), &spec).ok_or_else(|| {
-                if needs_exact_drift(method) {
-                    format!("'{method}' takes no rotor: a Nystrom or force-gradient splitting needs the free body's exact flow (use forced4 or forced6)")
-                } else if FORCED_METHODS.contains(&method) {
-                    format!("'{method}' refused the rotor: I^-1 h_r overflows")
-                } else if crate::methods::METHODS.contains(&method) {
-                    format!(
-                        "'{method}' has no forced step: with --rotor soak takes one of {}",
-                        FORCED_METHODS.join(", ")
-                    )
-                } else {
-                    format!("unknown method '{method}' (see `rigid3-lab methods`)")
-                }
-            })?
+            make_forced(method, body, T::from_f64(h), &spec)
+                .ok_or_else(|| crate::forced_methods::refusal(method, &spec))?
         }
     };
     let precision = if T::EPSILON.to_f64() > 1e-10 {
